@@ -1,0 +1,10 @@
+#pragma once
+// Each subcommand lives in its own app/cmd_NAME.cpp and registers itself on the root CLI::App.
+// The callback it installs runs after parsing and may throw; main() turns errors into exit codes.
+#include <CLI/CLI.hpp>
+
+namespace adugs::app {
+
+void registerEvalCommand(CLI::App& root);
+
+}  // namespace adugs::app

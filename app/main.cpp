@@ -1,0 +1,28 @@
+// adugs: the ADUGS-VINS command line. Subcommands are registered from app/cmd_*.cpp.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+#include "data/input_error.h"
+
+int main(int argc, char** argv) {
+  CLI::App root{"ADUGS-VINS: visual-inertial odometry robust to dynamic objects"};
+  root.require_subcommand(1);
+  root.set_version_flag("--version", "adugs 0.1");
+  adugs::app::registerEvalCommand(root);
+
+  try {
+    root.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return root.exit(e);
+  } catch (const adugs::data::InputError& e) {
+    std::cerr << "adugs: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "adugs: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

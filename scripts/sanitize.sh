@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Builds the unit tests with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/ and
+# runs them. Any sanitizer report fails the run.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADUGS_SANITIZE=ON \
+  -DADUGS_BUILD_BENCHMARKS=OFF
+cmake --build build-asan -j"${ADUGS_JOBS:-2}"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+# Leaks inside third-party libraries (OpenCV's and ViSP's static singletons) are not ours.
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
+cd build-asan
+ctest --output-on-failure -j"${ADUGS_JOBS:-2}"

@@ -1,0 +1,39 @@
+#pragma once
+// Helpers shared by the test suites: where the shared real data lives, temp folders, running adugs.
+#include <filesystem>
+#include <string>
+
+namespace adugs::test {
+
+// ../shared (or $ADUGS_SHARED_DATA/.. semantics: $ADUGS_SHARED_DATA points at shared/data).
+std::filesystem::path sharedDataDir();    // .../shared/data
+std::filesystem::path sharedModelsDir();  // .../shared/models
+
+// Skips the current test with a clear message when the shared path is absent. Use as
+//   ADUGS_REQUIRE_SHARED(path);
+#define ADUGS_REQUIRE_SHARED(path)                                                        \
+  do {                                                                                    \
+    if (!std::filesystem::exists(path))                                                   \
+      GTEST_SKIP() << "shared data not found at " << (path)                               \
+                   << " (set ADUGS_SHARED_DATA to the shared/data folder to run this test)"; \
+  } while (0)
+
+// A fresh empty directory under the system temp dir, removed by the destructor.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix = "adugs_test");
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Writes text to a file (creating parent directories).
+void writeText(const std::filesystem::path& file, const std::string& text);
+
+// Runs the built `adugs` binary with args; returns exit code; stdout+stderr go to *output.
+int runAdugs(const std::string& args, std::string* output);
+
+}  // namespace adugs::test
