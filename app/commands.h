@@ -6,5 +6,6 @@
 namespace adugs::app {
 
 void registerEvalCommand(CLI::App& root);
+void registerRunCommand(CLI::App& root);
 
 }  // namespace adugs::app

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   CLI::App root{"ADUGS-VINS: visual-inertial odometry robust to dynamic objects"};
   root.require_subcommand(1);
   root.set_version_flag("--version", "adugs 0.1");
+  adugs::app::registerRunCommand(root);
   adugs::app::registerEvalCommand(root);
 
   try {

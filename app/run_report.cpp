@@ -1,0 +1,60 @@
+#include "app/run_report.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "data/atomic_file.h"
+#include "data/trajectory_io.h"
+#include "vio/trajectory_eval.h"
+#include "vio/trajectory_plot.h"
+
+namespace adugs::app {
+namespace fs = std::filesystem;
+
+void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
+                     const std::string& trajectory_path, const std::string& gt_path,
+                     const RunStats& stats) {
+  std::ostringstream summary;
+  summary.precision(6);
+  summary << "estimator: " << estimator << "\n"
+          << "frames: " << stats.frames << "\n"
+          << "skipped_frames: " << stats.skipped_frames << "\n"
+          << "imu_samples: " << stats.imu_samples << "\n"
+          << "poses: " << stats.poses << "\n"
+          << "sequence_s: " << stats.sequence_s << "\n"
+          << "wall_s: " << stats.wall_s << "\n"
+          << "realtime_factor: " << (stats.wall_s > 0 ? stats.sequence_s / stats.wall_s : 0.0)
+          << "\n";
+
+  std::cout << "adugs run (" << estimator << "): " << stats.poses << " poses from "
+            << stats.frames << " frames (" << stats.sequence_s << " s of data) in "
+            << stats.wall_s << " s\n"
+            << "  trajectory  " << trajectory_path << "\n";
+
+  if (!gt_path.empty() && stats.poses >= 3) {
+    const auto est = data::readTrajectory(trajectory_path);
+    const auto gt = data::readTrajectory(gt_path);
+    vio::EvalOptions options;
+    options.align = vio::AlignMode::kSe3;
+    const vio::EvalResult r = vio::evaluateTrajectory(est, gt, options);
+    summary << "ate_se3_rmse_m: " << r.ate.translation.rmse << "\n"
+            << "ate_se3_max_m: " << r.ate.translation.max << "\n"
+            << "gt_length_m: " << r.gt_length_m << "\n";
+    const std::string plot = (fs::path(out_dir) / "eval.png").string();
+    vio::PlotOptions plot_options;
+    plot_options.title = "adugs run (" + estimator + ")";
+    vio::writeEvalPlot(plot, r, plot_options);
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "  ATE (se3)   RMSE %.4f m, max %.4f m over %zu poses, %.2f m travelled\n",
+                  r.ate.translation.rmse, r.ate.translation.max, r.ate.translation.count, r.gt_length_m);
+    std::cout << line << "  plot        " << plot << "\n";
+  }
+  const std::string summary_path = (fs::path(out_dir) / "summary.yaml").string();
+  data::writeTextFileAtomically(summary_path, summary.str());
+  std::cout << "  summary     " << summary_path << "\n";
+}
+
+}  // namespace adugs::app

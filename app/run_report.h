@@ -1,0 +1,24 @@
+#pragma once
+// What `adugs run` writes next to the trajectory: summary.yaml (counts, timing) and, when the
+// sequence has ground truth, the evaluation (ATE/RPE printed, eval.json, eval.png).
+#include <cstddef>
+#include <string>
+
+namespace adugs::app {
+
+struct RunStats {
+  size_t frames = 0;
+  size_t imu_samples = 0;
+  size_t poses = 0;
+  size_t skipped_frames = 0;
+  double sequence_s = 0.0;  // sequence time spanned by the frames
+  double wall_s = 0.0;      // processing time
+};
+
+// Writes out_dir/summary.yaml, evaluates against gt_path when not empty (se3 alignment), prints
+// a short report on stdout.
+void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
+                     const std::string& trajectory_path, const std::string& gt_path,
+                     const RunStats& stats);
+
+}  // namespace adugs::app
