@@ -68,13 +68,12 @@ void runSequence(const RunArgs& a) {
       ++stats.poses;
     }
     if (!a.quiet && stats.frames % 200 == 0)
-      std::cerr << "run: " << stats.frames << " frames, " << stats.sequence_s << " s\r"
+      std::cerr << "run: " << stats.frames << " frames, " << stats.sequence_s << " s\n"
                 << std::flush;
   }
   writer.close();
   stats.skipped_frames = reader.skippedFrames();
   stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  if (!a.quiet) std::cerr << "\n";
   writeRunOutputs(a.out_dir, "imu-only", traj_path, gt_path, stats);
 }
 

@@ -5,7 +5,9 @@
 
 namespace adugs::app {
 
+void registerCalibCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
 void registerRunCommand(CLI::App& root);
+void registerSimCommand(CLI::App& root);
 
 }  // namespace adugs::app

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   root.set_version_flag("--version", "adugs 0.1");
   adugs::app::registerRunCommand(root);
   adugs::app::registerEvalCommand(root);
+  adugs::app::registerCalibCommand(root);
+  adugs::app::registerSimCommand(root);
 
   try {
     root.parse(argc, argv);

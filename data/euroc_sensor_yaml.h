@@ -1,0 +1,59 @@
+#pragma once
+// EuRoC ASL `sensor.yaml` files: cam0/sensor.yaml (camera) and imu0/sensor.yaml (IMU).
+//
+// Reading is strict (unknown keys, missing keys, wrong types, non-finite numbers, wrong counts are
+// InputError naming the file, line and key). The OpenCV "%YAML:1.0" first line is accepted.
+// T_BS (rows: 4, cols: 4, data: 16 numbers, row-major) must be a rigid transform: the rotation
+// part orthonormal with det +1 within kRigidTolerance and the last row 0 0 0 1; the rotation is
+// then re-orthonormalised so T_B_C is an exact isometry.
+// Supported: camera_model pinhole; distortion_model radial-tangential (k1 k2 p1 p2) or
+// equidistant (k1 k2 k3 k4), exactly 4 coefficients.
+// Writing produces EuRoC-style files (with the "%YAML:1.0" line) that read back to the same values.
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace adugs::data {
+
+enum class DistortionModel { kRadialTangential, kEquidistant };
+
+// "radial-tangential" / "equidistant" (the EuRoC spellings).
+std::string toString(DistortionModel model);
+
+struct CameraCalibration {
+  int width = 0;  // pixels
+  int height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
+  DistortionModel distortion_model = DistortionModel::kRadialTangential;
+  std::vector<double> distortion;  // 4 coefficients, see above
+  Eigen::Isometry3d T_B_C = Eigen::Isometry3d::Identity();  // camera -> body (EuRoC T_BS)
+  double rate_hz = 0;
+};
+
+struct ImuNoise {
+  double gyro_noise_density = 0;   // rad / s / sqrt(Hz)
+  double gyro_random_walk = 0;     // rad / s^2 / sqrt(Hz)
+  double accel_noise_density = 0;  // m / s^2 / sqrt(Hz)
+  double accel_random_walk = 0;    // m / s^3 / sqrt(Hz)
+  double rate_hz = 0;
+  Eigen::Isometry3d T_B_I = Eigen::Isometry3d::Identity();  // IMU -> body (T_BS; optional key)
+};
+
+// Max |R^T R - I| entry, |det R - 1| and last-row deviation accepted for T_BS.
+constexpr double kRigidTolerance = 1e-5;
+
+// Read from a file; `source` names the text in error messages for the *String variants.
+CameraCalibration readEurocCameraYaml(const std::string& path);
+CameraCalibration parseEurocCameraYaml(const std::string& text, const std::string& source);
+ImuNoise readEurocImuYaml(const std::string& path);
+ImuNoise parseEurocImuYaml(const std::string& text, const std::string& source);
+
+// Write; numbers are printed in their shortest exact form. Throws InputError if the file cannot
+// be written.
+std::string formatEurocCameraYaml(const CameraCalibration& camera);
+std::string formatEurocImuYaml(const ImuNoise& imu);
+void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera);
+void writeEurocImuYaml(const std::string& path, const ImuNoise& imu);
+
+}  // namespace adugs::data

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang, AddressSanitizer + UndefinedBehaviorSanitizer) in build-fuzz
+# and runs each one for a bounded time.
+#   scripts/fuzz.sh [fuzz_csv|fuzz_yaml ...]
+#   FUZZ_SECONDS  seconds per target (default 60)      FUZZ_JOBS  build jobs (default 2)
+#   FUZZ_BUILD_DIR (default <repo>/build-fuzz)
+# Fails (exit 1) if a target crashes, throws anything but InputError, trips a sanitizer, leaks or
+# times out. The reproducer is written to $FUZZ_BUILD_DIR/fuzz-artifacts/ and the log to
+# $FUZZ_BUILD_DIR/fuzz-<target>.log; replay with: $FUZZ_BUILD_DIR/tests/fuzz/<target> <file>
+# Inputs found along the way accumulate in $FUZZ_BUILD_DIR/fuzz-corpus/ (the checked-in seeds in
+# tests/fuzz/corpus/ are only read).
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${FUZZ_BUILD_DIR:-$repo/build-fuzz}"
+seconds="${FUZZ_SECONDS:-60}"
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_csv fuzz_yaml)
+
+mkdir -p "$build"
+CC=clang CXX=clang++ cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DADUGS_FUZZ=ON -DADUGS_BUILD_TESTS=OFF -DADUGS_BUILD_BENCHMARKS=OFF >"$build/configure.log" 2>&1 ||
+  { cat "$build/configure.log"; exit 1; }
+cmake --build "$build" -j "${FUZZ_JOBS:-2}" --target "${targets[@]}"
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
+mkdir -p "$build/fuzz-artifacts"
+status=0
+for target in "${targets[@]}"; do
+  kind="${target#fuzz_}"
+  work="$build/fuzz-corpus/$kind"
+  log="$build/fuzz-$target.log"
+  mkdir -p "$work"
+  args=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=4096 -print_final_stats=1
+        -artifact_prefix="$build/fuzz-artifacts/$target-")
+  [ -f "$repo/tests/fuzz/$kind.dict" ] && args+=(-dict="$repo/tests/fuzz/$kind.dict")
+  echo "== $target: ${seconds}s"
+  rc=0
+  "$build/tests/fuzz/$target" "${args[@]}" "$work" "$repo/tests/fuzz/corpus/$kind" >"$log" 2>&1 || rc=$?
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" || true
+  grep -E "^#[0-9]+ +DONE" "$log" || true
+  if [ "$rc" -ne 0 ]; then
+    echo "FAIL: $target exited with $rc; log: $log"
+    grep -E "BUG:|ERROR:|SUMMARY:|runtime error|Test unit written|deadly signal|timeout" "$log" | head -20 || true
+    status=1
+  else
+    echo "ok: $target"
+  fi
+done
+exit "$status"

@@ -1,0 +1,161 @@
+// End-to-end sequence generation: the EuRoC reader loads it, masks and MOT rows are there, the
+// bytes are deterministic, hybrid mode follows the shared V1_01 data, bad input is an InputError.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "data/euroc_reader.h"
+#include "data/input_error.h"
+#include "data/sim_sequence.h"
+#include "data/trajectory_io.h"
+#include "tests/test_support.h"
+
+namespace adugs::data {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readAll(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+SimSequenceOptions smallOptions() {
+  SimSequenceOptions o;
+  o.scene = "street";
+  o.level = SimLevel::kHigh;
+  o.seed = 3;
+  o.duration_s = 1.0;
+  o.camera = SimCamera().scaled(0.5);  // small images keep the test fast
+  o.progress = false;
+  return o;
+}
+
+TEST(SimSequence, EurocReaderLoadsItWithMasksAndBoxes) {
+  test::TempDir dir("adugs_sim");
+  generateSimSequence(smallOptions(), dir.path().string());
+  EurocReader reader(dir.path().string());
+  int frames = 0, imu = 0;
+  Measurement m;
+  while (reader.next(m)) {
+    if (m.isFrame()) {
+      ++frames;
+      EXPECT_EQ(m.frame.image.cols, 376);
+      const fs::path mask = dir / ("mav0/mask0/data/" + std::to_string(m.frame.t_ns) + ".png");
+      const cv::Mat mk = cv::imread(mask.string(), cv::IMREAD_UNCHANGED);
+      ASSERT_FALSE(mk.empty()) << mask;
+      EXPECT_EQ(mk.size(), m.frame.image.size());
+    } else {
+      ++imu;
+    }
+  }
+  EXPECT_EQ(frames, 21);
+  EXPECT_EQ(imu, 201);
+  ASSERT_TRUE(reader.hasGroundTruth());
+  const auto gt = readGroundTruthStates(reader.groundTruthPath());
+  EXPECT_EQ(gt.size(), 201u);
+  EXPECT_TRUE(gt[0].has_velocity_and_biases);
+  EXPECT_NEAR(reader.camera().fx, SimCamera().fx / 2, 1e-9);
+
+  // MOT rows: 9 columns, frames within range, visibility in [0, 1].
+  std::ifstream mot(dir / "mav0/objects0/gt.txt");
+  std::string line;
+  int rows = 0;
+  while (std::getline(mot, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    int frame, id, x, y, w, h, conf, cls;
+    double vis;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%d,%d,%d,%d,%d,%d,%d,%lf", &frame, &id, &x, &y, &w, &h,
+                          &conf, &cls, &vis), 9) << line;
+    EXPECT_GE(frame, 1);
+    EXPECT_LE(frame, 21);
+    EXPECT_GT(w, 0);
+    EXPECT_GE(vis, 0.0);
+    EXPECT_LE(vis, 1.0);
+    ++rows;
+  }
+  EXPECT_GT(rows, 10);
+}
+
+TEST(SimSequence, SameSeedSameBytes) {
+  test::TempDir a("adugs_sim_a"), b("adugs_sim_b");
+  SimSequenceOptions o = smallOptions();
+  o.duration_s = 0.3;
+  generateSimSequence(o, a.path().string());
+  generateSimSequence(o, b.path().string());
+  int compared = 0;
+  for (const auto& e : fs::recursive_directory_iterator(a.path())) {
+    if (!e.is_regular_file()) continue;
+    const fs::path rel = fs::relative(e.path(), a.path());
+    ASSERT_TRUE(fs::exists(b.path() / rel)) << rel;
+    EXPECT_EQ(readAll(e.path()), readAll(b.path() / rel)) << rel;
+    ++compared;
+  }
+  EXPECT_GT(compared, 10);
+}
+
+TEST(SimSequence, HybridFollowsSharedV101) {
+  const fs::path root = test::sharedDataDir() / "euroc_v101_micro";
+  ADUGS_REQUIRE_SHARED(root);
+  test::TempDir dir("adugs_sim_hybrid");
+  SimSequenceOptions o = smallOptions();
+  o.scene = "room";
+  o.duration_s = 1.0;
+  o.trajectory_path = (root / "groundtruth/V1_01_easy_vicon2gt.csv").string();
+  o.imu_path = (root / "mav0/imu0/data.csv").string();
+  o.calib_path = (root / "mav0/cam0/sensor.yaml").string();
+  generateSimSequence(o, dir.path().string());
+  EurocReader reader(dir.path().string());
+  EXPECT_EQ(reader.camera().width, 752);
+  EXPECT_NEAR(reader.camera().T_B_C.translation().x(), -0.0216401454975, 1e-12);
+  int frames = 0;
+  Measurement m;
+  int64_t first_imu = -1;
+  while (reader.next(m)) {
+    frames += m.isFrame();
+    if (m.isImu() && first_imu < 0) {
+      first_imu = m.imu.t_ns;
+      EXPECT_NEAR(m.imu.accel.x(), 9.0874956666666655, 1e-12);  // the real IMU, unchanged
+    }
+  }
+  EXPECT_EQ(frames, 21);
+  EXPECT_EQ(first_imu, 1403715273262142976);
+}
+
+TEST(SimSequence, BadInputIsInputError) {
+  EXPECT_THROW(parseSimLevel("extreme"), InputError);
+  test::TempDir dir("adugs_sim_bad");
+  SimSequenceOptions o = smallOptions();
+  o.scene = "moon";
+  EXPECT_THROW(generateSimSequence(o, dir.path().string()), InputError);
+
+  const fs::path root = test::sharedDataDir() / "euroc_v101_micro";
+  ADUGS_REQUIRE_SHARED(root);
+  o = smallOptions();
+  o.trajectory_path = (dir / "missing.csv").string();
+  o.imu_path = (root / "mav0/imu0/data.csv").string();
+  o.calib_path = (root / "mav0/cam0/sensor.yaml").string();
+  EXPECT_THROW(generateSimSequence(o, (dir / "out").string()), InputError);
+
+  // An IMU stream that stops after 0.5 s cannot serve a 1 s trajectory.
+  std::ifstream in(root / "mav0/imu0/data.csv");
+  std::string text, line;
+  for (int i = 0; i < 101 && std::getline(in, line); ++i) text += line + "\n";
+  test::writeText(dir / "short_imu.csv", text);
+  o.trajectory_path = (root / "groundtruth/V1_01_easy_vicon2gt.csv").string();
+  o.imu_path = (dir / "short_imu.csv").string();
+  try {
+    generateSimSequence(o, (dir / "out2").string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not cover"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace adugs::data
