@@ -28,6 +28,12 @@ void AprilGrid::validate() const {
     throw std::invalid_argument("tagSize must be a positive number of metres");
   if (!(tag_spacing >= 0.0) || !std::isfinite(tag_spacing))
     throw std::invalid_argument("tagSpacing must be a non-negative ratio");
+  if (border_bits != 1 && border_bits != 2)
+    throw std::invalid_argument("borderBits must be 1 (standard tag36h11) or 2 (Kalibr)");
+  if (numTags() > kTag36h11Count)
+    throw std::invalid_argument("tagRows * tagCols = " + std::to_string(numTags()) +
+                                " exceeds the " + std::to_string(kTag36h11Count) +
+                                " codes of tag36h11");
 }
 
 }  // namespace adugs::calib

@@ -5,17 +5,6 @@
 
 namespace adugs::vio {
 
-Eigen::Quaterniond quaternionExp(const Eigen::Vector3d& rotation_vector) {
-  const double angle = rotation_vector.norm();
-  if (angle < 1e-12) {
-    // First order: q = (1, v/2), renormalised.
-    return Eigen::Quaterniond(1.0, 0.5 * rotation_vector.x(), 0.5 * rotation_vector.y(),
-                              0.5 * rotation_vector.z())
-        .normalized();
-  }
-  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector / angle));
-}
-
 NavState propagateMidpoint(const NavState& state, const data::ImuSample& a,
                            const data::ImuSample& b, const Eigen::Vector3d& g_W) {
   if (b.t_ns <= a.t_ns) throw std::invalid_argument("IMU samples must be strictly increasing");

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "data/types.h"
+#include "vio/so3.h"  // quaternionExp
 
 namespace adugs::vio {
 
@@ -20,9 +21,6 @@ struct NavState {
 
 // Gravity in the world frame (z up), m/s^2.
 inline Eigen::Vector3d gravityWorld() { return {0.0, 0.0, -9.81}; }
-
-// exp map of a rotation vector (exact for any angle).
-Eigen::Quaterniond quaternionExp(const Eigen::Vector3d& rotation_vector);
 
 // Propagates `state` (valid at sample a's time) to sample b's time with the midpoint of a and b.
 // Throws std::invalid_argument if b is not after a.

@@ -1,6 +1,6 @@
-#include "vio/imu_dead_reckoning.h"
-
 #include <gtest/gtest.h>
+
+#include "vio/imu_dead_reckoning.h"
 
 namespace adugs::vio {
 namespace {

@@ -1,8 +1,8 @@
-#include "vio/imu_integrator.h"
+#include <gtest/gtest.h>
 
 #include <cmath>
 
-#include <gtest/gtest.h>
+#include "vio/imu_integrator.h"
 
 namespace adugs::vio {
 namespace {

@@ -1,0 +1,391 @@
+// `adugs calib ...`: AprilGrid targets (print), detection, camera intrinsics, IMU noise.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "app/commands.h"
+#include "calib/allan_variance.h"
+#include "calib/aprilgrid_detector.h"
+#include "calib/aprilgrid_render.h"
+#include "calib/aprilgrid_target_yaml.h"
+#include "calib/calibration_report.h"
+#include "calib/chessboard.h"
+#include "calib/corner_csv.h"
+#include "calib/image_source.h"
+#include "calib/intrinsics_calibrator.h"
+#include "calib/kalibr_yaml.h"
+#include "calib/text_format.h"
+#include "calib/visp_camera_xml.h"
+#include "data/atomic_file.h"
+#include "data/euroc_sensor_yaml.h"
+#include "data/input_error.h"
+#include "data/yaml_options.h"
+
+namespace adugs::app {
+namespace {
+namespace fs = std::filesystem;
+using calib::strprintf;
+
+constexpr const char* kCli = "command line";
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void makeDir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) throw data::InputError(dir, 0, "--out", "cannot create folder");
+}
+
+void writePng(const std::string& path, const cv::Mat& image) {
+  if (!cv::imwrite(path, image)) throw data::InputError(path, 0, "", "cannot write PNG");
+}
+
+// ---------------------------------------------------------------- target
+struct TargetArgs {
+  std::string yaml;
+  int rows = 0, cols = 0;
+  double size = 0, spacing = -1;
+  int border_bits = 0;
+  std::string out = "aprilgrid";
+  double dpi = 300;
+  double margin_m = 0.02;
+};
+
+void runTarget(const TargetArgs& a) {
+  calib::AprilGrid grid;
+  const bool flags = a.rows > 0 || a.cols > 0 || a.size > 0 || a.spacing >= 0;
+  if (!a.yaml.empty()) {
+    if (flags) throw data::InputError(kCli, 0, "--target", "give a target YAML or the --tag-* flags, not both");
+    grid = calib::readAprilGridYaml(a.yaml);
+  } else {
+    if (a.rows <= 0 || a.cols <= 0 || a.size <= 0 || a.spacing < 0)
+      throw data::InputError(kCli, 0, "--target",
+                             "give --target YAML, or all of --tag-rows --tag-cols --tag-size "
+                             "--tag-spacing");
+    grid.tag_rows = a.rows;
+    grid.tag_cols = a.cols;
+    grid.tag_size_m = a.size;
+    grid.tag_spacing = a.spacing;
+  }
+  if (a.border_bits) grid.border_bits = a.border_bits;
+  try {
+    grid.validate();
+  } catch (const std::invalid_argument& e) {
+    throw data::InputError(a.yaml.empty() ? kCli : a.yaml, 0, "", e.what());
+  }
+  if (!(a.dpi >= 10 && a.dpi <= 2400)) throw data::InputError(kCli, 0, "--dpi", "must be 10..2400");
+  if (!(a.margin_m >= 0 && a.margin_m <= 1)) throw data::InputError(kCli, 0, "--margin", "must be 0..1 m");
+  const fs::path parent = fs::path(a.out).parent_path();
+  if (!parent.empty()) makeDir(parent.string());
+  const calib::TargetLayout layout = calib::aprilGridLayout(grid, a.margin_m);
+  const calib::RenderedTarget png = calib::renderAprilGrid(grid, a.dpi, a.margin_m);
+  writePng(a.out + ".png", png.image);
+  data::writeTextFileAtomically(a.out + ".pdf", calib::aprilGridPdf(layout));
+  data::writeTextFileAtomically(a.out + ".yaml", calib::formatAprilGridYaml(grid));
+  std::cout << strprintf(
+      "AprilGrid %dx%d tag36h11, tag %.4g m, spacing %.4g, border %d bits\n"
+      "  page %.1f x %.1f mm\n  %s.pdf (vector, print at 100%% / no scaling)\n"
+      "  %s.png (%dx%d px at %.0f dpi)\n  %s.yaml (Kalibr target file)\n",
+      grid.tag_rows, grid.tag_cols, grid.tag_size_m, grid.tag_spacing, grid.border_bits,
+      (layout.max_x - layout.min_x) * 1000, (layout.max_y - layout.min_y) * 1000, a.out.c_str(),
+      a.out.c_str(), png.image.cols, png.image.rows, a.dpi, a.out.c_str());
+}
+
+// ------------------------------------------------------------- detection
+struct DetectArgs {
+  std::string target;
+  std::string images;
+  std::string out;
+  std::string options;
+  int every = 1;
+  int threads = 2;
+};
+
+struct LoadedOptions {
+  calib::IntrinsicsOptions intrinsics;
+  calib::DetectorOptions detector;
+};
+
+LoadedOptions loadOptions(const std::string& path, bool with_intrinsics) {
+  LoadedOptions o;
+  if (path.empty()) return o;
+  auto r = data::YamlOptionsReader::fromFile(path);
+  if (with_intrinsics) calib::readIntrinsicsOptions(r, o.intrinsics);
+  auto d = r.child("detector");
+  d.optional("quad_decimate", o.detector.quad_decimate, 1.0f, 8.0f);
+  d.optional("threads", o.detector.threads, 1, 256);
+  d.optional("subpix", o.detector.subpix);
+  d.optional("max_subpix_shift_px", o.detector.max_subpix_shift_px, 0.0, 100.0);
+  d.optional("consistency_tol", o.detector.consistency_tol, 0.001, 10.0);
+  d.optional("dilated_pass", o.detector.dilated_pass);
+  d.finish();
+  r.finish();
+  return o;
+}
+
+struct Detected {
+  std::vector<calib::TargetObservation> views;
+  int width = 0, height = 0;
+  int images = 0;
+  double seconds = 0;
+};
+
+// chessboard: when non-null, detect this chessboard instead of the AprilGrid.
+Detected detectAll(const calib::AprilGrid& grid, const std::string& images, int every,
+                   const calib::DetectorOptions& options, bool verbose,
+                   const calib::Chessboard* chessboard = nullptr) {
+  calib::ImageSource source(images, every);
+  std::unique_ptr<calib::AprilGridDetector> detector;
+  if (!chessboard) detector = std::make_unique<calib::AprilGridDetector>(grid, options);
+  Detected d;
+  const auto t0 = std::chrono::steady_clock::now();
+  calib::ImageFrame frame;
+  while (source.next(frame)) {
+    if (d.images == 0) {
+      d.width = frame.gray.cols;
+      d.height = frame.gray.rows;
+    } else if (frame.gray.cols != d.width || frame.gray.rows != d.height) {
+      throw data::InputError(frame.name, 0, "",
+                             strprintf("image is %dx%d but the first one was %dx%d",
+                                       frame.gray.cols, frame.gray.rows, d.width, d.height));
+    }
+    calib::DetectionStats stats;
+    calib::TargetObservation obs =
+        chessboard ? calib::detectChessboard(*chessboard, frame.gray, frame.t_ns)
+                   : detector->detect(frame.gray, frame.t_ns, &stats);
+    if (chessboard) stats.kept_tags = static_cast<int>(obs.corners.size());
+    obs.source = frame.name;
+    ++d.images;
+    if (verbose)
+      std::cerr << strprintf("\r  detecting: image %d/%zu, %d %s        ", d.images,
+                             source.sizeHint(), stats.kept_tags,
+                             chessboard ? "corners" : "tags");
+    d.views.push_back(std::move(obs));
+  }
+  if (verbose) std::cerr << "\n";
+  d.seconds = secondsSince(t0);
+  return d;
+}
+
+void saveCorners(const std::string& dir, const calib::AprilGrid& grid, const Detected& d) {
+  makeDir(dir);
+  for (const auto& v : d.views)
+    if (!v.corners.empty())
+      calib::writeCornerCsv((fs::path(dir) / (std::to_string(v.t_ns) + ".csv")).string(), grid, v);
+}
+
+void runDetect(const DetectArgs& a) {
+  const calib::AprilGrid grid = calib::readAprilGridYaml(a.target);
+  LoadedOptions o = loadOptions(a.options, false);
+  o.detector.threads = a.threads;
+  const Detected d = detectAll(grid, a.images, a.every, o.detector, true);
+  saveCorners(a.out, grid, d);
+  size_t with = 0, corners = 0;
+  for (const auto& v : d.views) {
+    with += !v.corners.empty();
+    corners += v.corners.size();
+  }
+  std::cout << strprintf("%d images (%dx%d) in %.2f s: %zu with the target, %zu corners -> %s\n",
+                         d.images, d.width, d.height, d.seconds, with, corners, a.out.c_str());
+}
+
+// ------------------------------------------------------------ intrinsics
+struct IntrinsicsArgs {
+  std::string target;
+  std::string images;
+  std::string corners;
+  std::string model;
+  std::string resolution;
+  std::string options;
+  std::string reference;
+  std::string out = "calib_out";
+  int every = 1;
+  int threads = 2;
+  bool save_corners = false;
+};
+
+void runIntrinsics(const IntrinsicsArgs& a) {
+  if (a.images.empty() == a.corners.empty())
+    throw data::InputError(kCli, 0, "--images", "give exactly one of --images and --corners");
+  LoadedOptions o = loadOptions(a.options, true);
+  o.intrinsics.threads = a.threads;
+  o.detector.threads = a.threads;
+  if (!a.model.empty()) {
+    std::string m = a.model;
+    if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
+    if (!calib::parseDistortionModel(m, o.intrinsics.model))
+      throw data::InputError(kCli, 0, "--model",
+                             "unknown distortion model '" + a.model +
+                                 "' (use radtan or equidistant, optionally as pinhole-radtan / "
+                                 "pinhole-equi)");
+  }
+  calib::AprilGrid grid;
+  Detected d;
+  calib::ReportContext ctx;
+  calib::Chessboard chessboard;
+  const bool is_chessboard = a.target.rfind("chessboard", 0) == 0;
+  if (is_chessboard && !calib::parseChessboardSpec(a.target, chessboard))
+    throw data::InputError(kCli, 0, "--target",
+                           "expected chessboard:COLSxROWS:SQUARE_M (inner corners), e.g. "
+                           "chessboard:9x6:0.025");
+  if (is_chessboard && a.images.empty())
+    throw data::InputError(kCli, 0, "--target", "a chessboard needs --images");
+  if (!a.images.empty()) {
+    if (a.target.empty()) throw data::InputError(kCli, 0, "--target", "needed with --images");
+    if (!is_chessboard) grid = calib::readAprilGridYaml(a.target);
+    d = detectAll(grid, a.images, a.every, o.detector, true, is_chessboard ? &chessboard : nullptr);
+    ctx.input = a.images;
+    ctx.detect_seconds = d.seconds;
+    ctx.images = d.images;
+  } else {
+    calib::AprilGrid from_yaml;
+    const calib::AprilGrid* want = nullptr;
+    if (!a.target.empty()) {
+      from_yaml = calib::readAprilGridYaml(a.target);
+      want = &from_yaml;
+    }
+    d.views = calib::readCornerCsvs(a.corners, want, &grid);
+    ctx.input = a.corners;
+  }
+  if (!a.resolution.empty()) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(a.resolution.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' ||
+        w <= 0 || h <= 0)
+      throw data::InputError(kCli, 0, "--resolution", "expected WIDTHxHEIGHT, e.g. 752x480");
+    if (d.width > 0 && (w != d.width || h != d.height))
+      throw data::InputError(kCli, 0, "--resolution", "does not match the images' size");
+    d.width = w;
+    d.height = h;
+  }
+  if (d.width <= 0)
+    throw data::InputError(kCli, 0, "--resolution",
+                           "corner CSVs do not say the image size: give --resolution WxH");
+  ctx.target = is_chessboard
+                   ? strprintf("chessboard %dx%d inner corners, square %g m", chessboard.cols,
+                               chessboard.rows, chessboard.square_m)
+                   : strprintf("AprilGrid %dx%d, tag %g m, spacing %g", grid.tag_rows,
+                               grid.tag_cols, grid.tag_size_m, grid.tag_spacing);
+
+  const calib::IntrinsicsResult r =
+      calib::calibrateIntrinsics(d.views, d.width, d.height, o.intrinsics);
+  if (!a.reference.empty()) {
+    const data::CameraCalibration ref = data::readEurocCameraYaml(a.reference);
+    ctx.has_reference = true;
+    ctx.reference_name = a.reference;
+    ctx.reference.width = ref.width;
+    ctx.reference.height = ref.height;
+    ctx.reference.model = ref.distortion_model;
+    ctx.reference.params = {ref.fx, ref.fy, ref.cx, ref.cy, ref.distortion[0], ref.distortion[1],
+                            ref.distortion[2], ref.distortion[3]};
+    ctx.reference_rms_px = calib::reprojectionRmsWithFixedIntrinsics(
+        d.views, ctx.reference, o.intrinsics.min_corners_per_view);
+    ctx.our_rms_all_px = calib::reprojectionRmsWithFixedIntrinsics(
+        d.views, r.camera, o.intrinsics.min_corners_per_view);
+  }
+
+  makeDir(a.out);
+  const fs::path out(a.out);
+  data::writeTextFileAtomically((out / "camchain.yaml").string(), calib::formatCamchainYaml(r.camera));
+  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera);
+  const std::string report = calib::formatIntrinsicsReport(r, ctx);
+  data::writeTextFileAtomically((out / "report.txt").string(), report);
+  writePng((out / "residuals.png").string(), calib::renderResidualPlot(r));
+  data::writeTextFileAtomically((out / "residuals.csv").string(), calib::formatResidualCsv(r));
+  if (a.save_corners && !a.images.empty() && !is_chessboard) saveCorners((out / "corners").string(), grid, d);
+
+  // The head of the report (summary, intrinsics, comparison) on stdout.
+  const size_t cut = report.find("Per view");
+  std::cout << report.substr(0, cut);
+  std::cout << "Wrote " << (out / "camchain.yaml").string()
+            << ", camera.xml, report.txt, residuals.png, residuals.csv\n";
+}
+
+// ------------------------------------------------------------------- imu
+struct ImuArgs {
+  std::string imu;
+  std::string out = "imu_out";
+  double rate_hz = 0;
+  int points = 60;
+};
+
+void runImu(const ImuArgs& a) {
+  const calib::ImuRecording rec = calib::readImuCsv(a.imu);
+  calib::AllanOptions o;
+  o.points = a.points;
+  const auto t0 = std::chrono::steady_clock::now();
+  const calib::ImuNoiseResult r = calib::estimateImuNoise(rec, o);
+  const double seconds = secondsSince(t0);
+  makeDir(a.out);
+  const fs::path out(a.out);
+  calib::ImuNoiseFigures f = r.figures;
+  if (a.rate_hz > 0) f.update_rate_hz = a.rate_hz;
+  data::writeTextFileAtomically((out / "imu.yaml").string(), calib::formatImuYaml(f));
+  const std::string report = calib::formatImuNoiseReport(r, a.imu, seconds);
+  data::writeTextFileAtomically((out / "report.txt").string(), report);
+  writePng((out / "allan.png").string(), calib::renderAllanPlot(r));
+  std::cout << report << "Wrote " << (out / "imu.yaml").string() << ", report.txt, allan.png\n";
+}
+
+}  // namespace
+
+void registerCalibCommand(CLI::App& root) {
+  CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, IMU noise");
+  calib->require_subcommand(1);
+
+  auto t = std::make_shared<TargetArgs>();
+  CLI::App* target = calib->add_subcommand("target", "Render a printable AprilGrid (PNG + vector PDF + YAML)");
+  target->add_option("--target", t->yaml, "Kalibr target YAML (target_type: aprilgrid)");
+  target->add_option("--tag-rows", t->rows, "Tag rows (instead of --target)");
+  target->add_option("--tag-cols", t->cols, "Tag columns");
+  target->add_option("--tag-size", t->size, "Tag size (black square) [m]");
+  target->add_option("--tag-spacing", t->spacing, "Gap between tags / tag size");
+  target->add_option("--border-bits", t->border_bits, "Black border in bits: 2 = Kalibr (default), 1 = standard tag36h11");
+  target->add_option("--out", t->out, "Output prefix: PREFIX.png, PREFIX.pdf, PREFIX.yaml")->capture_default_str();
+  target->add_option("--dpi", t->dpi, "PNG resolution")->capture_default_str();
+  target->add_option("--margin", t->margin_m, "White margin around the board [m]")->capture_default_str();
+  target->callback([t] { runTarget(*t); });
+
+  auto d = std::make_shared<DetectArgs>();
+  CLI::App* detect = calib->add_subcommand("detect", "Detect the AprilGrid in images; write one corner CSV per image (yac/EuRoC format)");
+  detect->add_option("--target", d->target, "Target YAML")->required();
+  detect->add_option("--images", d->images, "EuRoC cam folder, image folder or video")->required();
+  detect->add_option("--out", d->out, "Output folder for the CSVs")->required();
+  detect->add_option("--options", d->options, "Options YAML (detector: ...)");
+  detect->add_option("--every", d->every, "Use one image in N")->capture_default_str();
+  detect->add_option("--threads", d->threads, "Threads")->capture_default_str();
+  detect->callback([d] { runDetect(*d); });
+
+  auto in = std::make_shared<IntrinsicsArgs>();
+  CLI::App* intr = calib->add_subcommand("intrinsics", "Calibrate a pinhole camera (radtan or equidistant) from AprilGrid views");
+  intr->add_option("--target", in->target, "Target YAML (needed with --images; checked against the CSVs with --corners), or chessboard:COLSxROWS:SQUARE_M");
+  intr->add_option("--images", in->images, "EuRoC cam folder, image folder or video");
+  intr->add_option("--corners", in->corners, "Folder of corner CSVs (or one CSV) instead of images");
+  intr->add_option("--model", in->model, "Distortion model: radtan (default) or equidistant");
+  intr->add_option("--resolution", in->resolution, "Image size WxH (needed with --corners)");
+  intr->add_option("--options", in->options, "Options YAML (calibration keys + detector: ...)");
+  intr->add_option("--reference", in->reference, "EuRoC sensor.yaml to compare the result with (report)");
+  intr->add_option("--out", in->out, "Output folder")->capture_default_str();
+  intr->add_option("--every", in->every, "Use one image in N")->capture_default_str();
+  intr->add_option("--threads", in->threads, "Threads")->capture_default_str();
+  intr->add_flag("--save-corners", in->save_corners, "Also write the detected corners to OUT/corners/");
+  intr->callback([in] { runIntrinsics(*in); });
+
+  auto im = std::make_shared<ImuArgs>();
+  CLI::App* imu = calib->add_subcommand("imu", "IMU noise densities and random walks from a static recording (Allan deviation)");
+  imu->add_option("--imu", im->imu, "IMU CSV: #timestamp [ns],wx,wy,wz,ax,ay,az (EuRoC imu0/data.csv)")->required();
+  imu->add_option("--out", im->out, "Output folder")->capture_default_str();
+  imu->add_option("--rate", im->rate_hz, "Rate written to imu.yaml [Hz] (default: from timestamps)");
+  imu->add_option("--points", im->points, "Cluster times on the log-spaced axis")->capture_default_str();
+  imu->callback([im] { runImu(*im); });
+}
+
+}  // namespace adugs::app

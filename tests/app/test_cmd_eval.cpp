@@ -1,0 +1,170 @@
+// `adugs eval` end to end: files written in a temp dir, the built binary run on them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "tests/test_support.h"
+
+namespace adugs {
+namespace {
+
+using test::runAdugs;
+using test::TempDir;
+using test::writeText;
+
+// A ground-truth loop in EuRoC CSV and an estimate in TUM whose positions are off by 0.1 m and
+// 0.3 m alternately (no alignment: ATE RMSE = sqrt((0.01 + 0.09) / 2) = 0.2236068 m).
+// `frame_change` moves the estimate into another world frame (then se3 alignment gives 0).
+void writePair(const TempDir& dir, bool offsets, bool frame_change, int64_t est_time_shift_ns = 0) {
+  std::string gt = "#timestamp [ns],p_x,p_y,p_z,q_w,q_x,q_y,q_z\n";
+  std::string est = "# t tx ty tz qx qy qz qw\n";
+  const double c = std::cos(0.3), s = std::sin(0.3);  // frame change: yaw 0.3 rad + shift
+  for (int i = 0; i < 200; ++i) {
+    const int64_t t_ns = 1403715273000000000LL + i * 50000000LL;
+    const double a = 0.05 * i;
+    const double x = 3 * std::cos(a), y = 2 * std::sin(a), z = 1 + 0.2 * std::sin(3 * a);
+    char line[256];
+    std::snprintf(line, sizeof(line), "%lld,%.12f,%.12f,%.12f,1,0,0,0\n",
+                  static_cast<long long>(t_ns), x, y, z);
+    gt += line;
+    double ex = x, ey = y, ez = z;
+    if (offsets) ez += (i % 2 ? 0.3 : 0.1);
+    double qz = 0.0, qw = 1.0;
+    if (frame_change) {
+      ex = c * x - s * y + 5.0;
+      ey = s * x + c * y - 2.0;
+      qz = std::sin(0.15);
+      qw = std::cos(0.15);
+    }
+    const int64_t te = t_ns + est_time_shift_ns + (i % 3 - 1) * 2000000;  // +-2 ms jitter
+    std::snprintf(line, sizeof(line), "%lld.%09lld %.12f %.12f %.12f 0 0 %.12f %.12f\n",
+                  static_cast<long long>(te / 1000000000LL),
+                  static_cast<long long>(te % 1000000000LL), ex, ey, ez, qz, qw);
+    est += line;
+  }
+  writeText(dir / "gt.csv", gt);
+  writeText(dir / "est.txt", est);
+}
+
+std::string args(const TempDir& dir, const std::string& extra = "") {
+  return "eval --est " + (dir / "est.txt").string() + " --gt " + (dir / "gt.csv").string() + " " +
+         extra;
+}
+
+double printedAteRmse(const std::string& out) {
+  std::smatch m;
+  if (!std::regex_search(out, m, std::regex(R"(trans \[m\]\s+([0-9.]+))"))) return -1.0;
+  return std::stod(m[1]);
+}
+
+TEST(CmdEval, PrintsKnownRmseWithoutAlignment) {
+  TempDir dir;
+  writePair(dir, true, false);
+  std::string out;
+  ASSERT_EQ(runAdugs(args(dir, "--align none"), &out), 0) << out;
+  EXPECT_NEAR(printedAteRmse(out), 0.223607, 1e-6) << out;
+  EXPECT_NE(out.find("200 pairs"), std::string::npos) << out;
+  EXPECT_NE(out.find("(TUM, 200 poses)"), std::string::npos) << out;
+  EXPECT_NE(out.find("(EuRoC CSV, 200 poses)"), std::string::npos) << out;
+  EXPECT_NE(out.find("RPE"), std::string::npos) << out;
+}
+
+TEST(CmdEval, Se3AlignmentRemovesAFrameChange) {
+  TempDir dir;
+  writePair(dir, false, true);
+  std::string out;
+  ASSERT_EQ(runAdugs(args(dir), &out), 0) << out;  // se3 is the default
+  EXPECT_NEAR(printedAteRmse(out), 0.0, 1e-6) << out;
+  ASSERT_EQ(runAdugs(args(dir, "--align none"), &out), 0) << out;
+  EXPECT_GT(printedAteRmse(out), 1.0) << out;
+  ASSERT_EQ(runAdugs(args(dir, "--align posyaw --align-frames 20"), &out), 0) << out;
+  EXPECT_NEAR(printedAteRmse(out), 0.0, 1e-6) << out;  // the change is a yaw + shift
+  EXPECT_NE(out.find("the first 20 pairs"), std::string::npos) << out;
+}
+
+TEST(CmdEval, WritesPlotAndJson) {
+  TempDir dir;
+  writePair(dir, true, true);
+  std::string out;
+  const std::string plot = (dir / "eval.png").string(), json = (dir / "eval.json").string();
+  ASSERT_EQ(
+      runAdugs(args(dir, "--align sim3 --rpe-lengths 1,2.5 --plot " + plot + " --json " + json),
+               &out),
+      0)
+      << out;
+  const cv::Mat img = cv::imread(plot);
+  ASSERT_FALSE(img.empty()) << out;
+  EXPECT_EQ(img.cols, 1200);
+  EXPECT_FALSE(std::filesystem::exists(plot + ".tmp"));
+  std::ifstream in(json);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string j = ss.str();
+  EXPECT_NE(j.find("\"mode\": \"sim3\""), std::string::npos) << j;
+  EXPECT_NE(j.find("\"matched_pairs\": 200"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"length_m\": 2.5"), std::string::npos) << j;
+  EXPECT_NE(out.find("    1.000 "), std::string::npos) << out;  // RPE rows for the given lengths
+  EXPECT_NE(out.find("    2.500 "), std::string::npos) << out;
+}
+
+TEST(CmdEval, MissingFileIsNamed) {
+  TempDir dir;
+  writePair(dir, false, false);
+  std::string out;
+  const std::string missing = (dir / "nope.txt").string();
+  EXPECT_NE(runAdugs("eval --est " + missing + " --gt " + (dir / "gt.csv").string(), &out), 0);
+  EXPECT_NE(out.find(missing), std::string::npos) << out;
+  EXPECT_NE(out.find("cannot open"), std::string::npos) << out;
+}
+
+TEST(CmdEval, BadLineIsLocated) {
+  TempDir dir;
+  writePair(dir, false, false);
+  std::string gt;
+  {
+    std::ifstream in(dir / "gt.csv");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    gt = ss.str();
+  }
+  writeText(dir / "gt.csv",
+            gt + "1403715283000000000,1,2,3,0.5,0,0,0\n");  // line 202: bad quaternion
+  std::string out;
+  EXPECT_NE(runAdugs(args(dir), &out), 0);
+  EXPECT_NE(out.find((dir / "gt.csv").string() + ":202"), std::string::npos) << out;
+  EXPECT_NE(out.find("quaternion"), std::string::npos) << out;
+}
+
+TEST(CmdEval, NoAssociatedPoses) {
+  TempDir dir;
+  writePair(dir, false, false, 25000000LL);  // est 25 +- 2 ms late, poses 50 ms apart
+  std::string out;
+  EXPECT_NE(runAdugs(args(dir), &out), 0);
+  EXPECT_NE(out.find("no associated poses"), std::string::npos) << out;
+  EXPECT_NE(out.find((dir / "est.txt").string()), std::string::npos) << out;
+  // A larger --max-dt finds them.
+  EXPECT_EQ(runAdugs(args(dir, "--max-dt 0.03"), &out), 0) << out;
+}
+
+TEST(CmdEval, BadOptions) {
+  TempDir dir;
+  writePair(dir, false, false);
+  std::string out;
+  EXPECT_NE(runAdugs(args(dir, "--align affine"), &out), 0);
+  EXPECT_NE(out.find("--align"), std::string::npos) << out;
+  EXPECT_NE(runAdugs(args(dir, "--max-dt -1"), &out), 0);
+  EXPECT_NE(runAdugs(args(dir, "--rpe-lengths 1,-2"), &out), 0);
+  EXPECT_NE(runAdugs("eval --gt " + (dir / "gt.csv").string(), &out), 0);
+  EXPECT_NE(out.find("--est"), std::string::npos) << out;
+  EXPECT_NE(runAdugs(args(dir, "--align sim3 --align-frames 2"), &out), 0);
+  EXPECT_NE(out.find("at least 3"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace adugs
