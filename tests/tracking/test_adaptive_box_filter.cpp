@@ -1,0 +1,76 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "tracking/adaptive_box_filter.h"
+
+namespace adugs::tracking {
+namespace {
+
+TEST(AdaptiveNoise, HandWorkedErfFormula) {
+  // Innovations 3 and 4: RMSE = sqrt((9 + 16) / 2) = 3.5355339; lambda 0.2 -> erf(0.70710678)
+  // = 0.68268949 (the one-sigma probability); beta 10 -> R = 6.8268949, plus the floor.
+  const std::deque<double> window{3.0, -4.0};
+  EXPECT_NEAR(adaptiveMeasurementVariance(window, 10.0, 0.2, 2.0, 0.0), 6.8268949, 1e-6);
+  EXPECT_NEAR(adaptiveMeasurementVariance(window, 10.0, 0.2, 2.0, 0.5), 7.3268949, 1e-6);
+  // No innovations yet: the assumed RMSE, 2 px -> 10 erf(0.4) = 4.2839236.
+  EXPECT_NEAR(adaptiveMeasurementVariance({}, 10.0, 0.2, 2.0, 0.0), 4.2839236, 1e-6);
+  // Saturation: huge innovations give beta, never more.
+  EXPECT_NEAR(adaptiveMeasurementVariance({500.0, -800.0}, 10.0, 0.2, 2.0, 0.0), 10.0, 1e-12);
+  // Perfect detections: only the floor is left.
+  EXPECT_DOUBLE_EQ(adaptiveMeasurementVariance({0.0, 0.0}, 10.0, 0.2, 2.0, 0.01), 0.01);
+}
+
+TEST(AdaptiveBoxFilter, LearnsConstantVelocityAndPredictsThroughAGap) {
+  AdaptiveBoxFilter f(Box{100, 200, 40, 80});
+  for (int k = 1; k <= 30; ++k) {
+    f.predict();
+    f.update(Box{100 + 3.0 * k, 200 - 1.0 * k, 40, 80});
+  }
+  EXPECT_NEAR(f.state()(4), 3.0, 0.05);
+  EXPECT_NEAR(f.state()(5), -1.0, 0.05);
+  // Five frames without detections: the prediction continues the motion.
+  Box b;
+  for (int k = 0; k < 5; ++k) b = f.predict();
+  EXPECT_NEAR(b.cx, 100 + 3.0 * 35, 0.5);
+  EXPECT_NEAR(b.cy, 200 - 1.0 * 35, 0.5);
+  EXPECT_NEAR(b.w, 40, 0.2);
+  // Perfect detections drive R down to (nearly) the floor.
+  EXPECT_LT(f.measurementVariance()(0), 0.2);
+}
+
+TEST(AdaptiveBoxFilter, JumpyDetectionsRaiseRAndAreTrustedLess) {
+  AdaptiveNoiseOptions o;
+  AdaptiveBoxFilter steady(Box{0, 0, 50, 50}, o), jumpy(Box{0, 0, 50, 50}, o);
+  for (int k = 1; k <= 20; ++k) {
+    steady.predict();
+    jumpy.predict();
+    steady.update(Box{0, 0, 50, 50});
+    jumpy.update(Box{(k % 2 ? 12.0 : -12.0), 0, 50, 50});  // +-12 px detection noise
+  }
+  EXPECT_GT(jumpy.measurementVariance()(0), 0.9 * o.beta_pos);  // erf(0.25 * ~12) ~ 1
+  EXPECT_LT(steady.measurementVariance()(0), 0.1);
+  // The jumpy track's estimate stays near the true centre instead of following the detections.
+  EXPECT_LT(std::abs(jumpy.box().cx), 6.0);
+  // The covariance stays symmetric and positive definite.
+  const auto& P = jumpy.covariance();
+  EXPECT_LT((P - P.transpose()).norm(), 1e-9);
+  EXPECT_GT(P.eigenvalues().real().minCoeff(), 0.0);
+}
+
+TEST(AdaptiveBoxFilter, SizeNeverCollapses) {
+  AdaptiveBoxFilter f(Box{10, 10, 4, 4});
+  for (int k = 1; k <= 5; ++k) {
+    f.predict();
+    f.update(Box{10, 10, 4.0 - 0.7 * k, 4.0 - 0.7 * k});
+  }
+  for (int k = 0; k < 20; ++k) {
+    const Box b = f.predict();
+    EXPECT_GE(b.w, 1.0);
+    EXPECT_GE(b.h, 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace adugs::tracking

@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "tracking/sort_tracker.h"
+
+namespace adugs::tracking {
+namespace {
+
+const TrackedObject* findById(const std::vector<TrackedObject>& v, int64_t id) {
+  for (const auto& o : v)
+    if (o.id == id) return &o;
+  return nullptr;
+}
+
+// Two people walking towards each other along the same line, crossing in the middle: one is
+// partly hidden behind the other for a few frames (no detection), yet both keep their ids.
+TEST(SortTracker, CrossingObjectsKeepTheirIdsThroughAMissedDetection) {
+  SortTracker sort;
+  std::map<int64_t, double> start_x;  // id -> the x it started from
+  for (int k = 0; k < 40; ++k) {
+    const double xa = 100 + 8.0 * k, xb = 420 - 8.0 * k;  // cross at k = 20
+    std::vector<Detection> dets{{Box{xa, 240, 40, 100}, 0}};
+    const bool b_hidden = k >= 18 && k <= 21;  // B is behind A around the crossing
+    if (!b_hidden) dets.push_back({Box{xb, 250, 40, 100}, 0});
+    const auto out = sort.update(dets);
+    if (k == 2) {
+      ASSERT_EQ(out.size(), 2u);
+      for (const auto& o : out) start_x[o.id] = o.box.cx < 260 ? 100.0 : 420.0;
+    }
+    if (k > 2) {
+      ASSERT_EQ(out.size(), 2u) << "frame " << k;
+      for (const auto& [id, x0] : start_x) {
+        const TrackedObject* o = findById(out, id);
+        ASSERT_NE(o, nullptr) << "id " << id << " lost at frame " << k;
+        const double expected = x0 == 100.0 ? xa : xb;
+        EXPECT_NEAR(o->box.cx, expected, 6.0) << "id " << id << " frame " << k;
+        if (x0 == 420.0) {
+          EXPECT_EQ(o->detected, !b_hidden);
+        }
+      }
+    }
+  }
+}
+
+TEST(SortTracker, TracksAreDeletedAfterMaxAgeAndIdsAreNotReused) {
+  SortOptions o;
+  o.max_age = 3;
+  SortTracker sort(o);
+  for (int k = 0; k < 5; ++k) sort.update({{Box{50.0 + k, 50, 20, 20}, 2}});
+  EXPECT_EQ(sort.liveTracks(), 1);
+  for (int k = 0; k < 3; ++k) {
+    const auto out = sort.update({});
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_FALSE(out[0].detected);
+    EXPECT_EQ(out[0].frames_missed, k + 1);
+  }
+  EXPECT_TRUE(sort.update({}).empty());
+  EXPECT_EQ(sort.liveTracks(), 0);
+  sort.update({{Box{50, 50, 20, 20}, 2}});
+  const auto out = sort.update({{Box{51, 50, 20, 20}, 2}});
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].id, 2);  // a new track, not the deleted id 1
+}
+
+TEST(SortTracker, DifferentClassesNeverMatchAndLowIouStartsANewTrack) {
+  SortTracker sort;
+  sort.update({{Box{100, 100, 50, 50}, 0}});
+  auto out = sort.update({{Box{100, 100, 50, 50}, 1}});  // same place, other class
+  EXPECT_EQ(sort.liveTracks(), 2);
+  out = sort.update({{Box{400, 100, 50, 50}, 0}});  // far away: IoU 0 with the class-0 track
+  EXPECT_EQ(sort.liveTracks(), 3);
+}
+
+TEST(SortTracker, NewTracksNeedMinHitsOnceTheTrackerIsRunning) {
+  SortOptions o;
+  o.min_hits = 3;
+  SortTracker sort(o);
+  for (int k = 0; k < 5; ++k) sort.update({});
+  EXPECT_TRUE(sort.update({{Box{10, 10, 8, 8}, 0}}).empty());
+  EXPECT_TRUE(sort.update({{Box{11, 10, 8, 8}, 0}}).empty());
+  EXPECT_EQ(sort.update({{Box{12, 10, 8, 8}, 0}}).size(), 1u);
+}
+
+}  // namespace
+}  // namespace adugs::tracking

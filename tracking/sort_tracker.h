@@ -1,0 +1,60 @@
+#pragma once
+// Enhanced SORT (DESIGN.md): per frame, every track's adaptive Kalman filter predicts its box;
+// the Hungarian algorithm matches predictions to detections on 1 - IoU (same class only);
+// matches with IoU below iou_min are refused. Matched tracks fuse their detection, unmatched
+// detections start tracks, unmatched tracks coast on their prediction for up to max_age frames -
+// the predicted box stands in for a missed detection (partial or full occlusion) so the dynamic
+// mask keeps covering the object.
+#include <cstdint>
+#include <vector>
+
+#include "tracking/adaptive_box_filter.h"
+#include "tracking/box.h"
+
+namespace adugs::tracking {
+
+struct Detection {
+  Box box;
+  int class_id = 0;
+  double score = 1.0;
+};
+
+struct TrackedObject {
+  int64_t id = 0;  // persistent, never reused
+  Box box;         // filtered (detected) or predicted (coasting) box
+  int class_id = 0;
+  bool detected = false;  // matched to a detection this frame
+  int hits = 0;           // detections fused so far
+  int frames_missed = 0;  // consecutive frames without a detection
+};
+
+struct SortOptions {
+  double iou_min = 0.3;
+  int max_age = 5;   // frames a track coasts without detections before it is deleted
+  int min_hits = 2;  // detections before a track is reported (reported at once while the
+                     // tracker itself is younger than min_hits frames, as SORT does)
+  AdaptiveNoiseOptions filter;
+};
+
+class SortTracker {
+ public:
+  explicit SortTracker(const SortOptions& options = {});
+
+  // One frame: detections in, the confirmed tracks out (detected or coasting).
+  // dt: frames since the previous call (1 for consecutive frames).
+  std::vector<TrackedObject> update(const std::vector<Detection>& detections, double dt = 1.0);
+
+  int liveTracks() const { return static_cast<int>(tracks_.size()); }
+
+ private:
+  struct Track {
+    TrackedObject object;
+    AdaptiveBoxFilter filter;
+  };
+  SortOptions options_;
+  std::vector<Track> tracks_;
+  int64_t next_id_ = 1;
+  int frames_ = 0;
+};
+
+}  // namespace adugs::tracking
