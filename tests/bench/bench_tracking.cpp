@@ -2,14 +2,11 @@
 // Kalman) with many objects, and box-prompted GrabCut segmentation of a simulated street frame.
 #include <benchmark/benchmark.h>
 
-#include <fstream>
-#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
-#include <sstream>
 
-#include "data/sim_sequence.h"
 #include "tests/test_support.h"
+#include "tests/tracking/simulated_street.h"
 #include "tracking/grabcut_segmenter.h"
 #include "tracking/sort_tracker.h"
 
@@ -38,35 +35,13 @@ BENCHMARK(BM_SortUpdate)->Arg(5)->Arg(20)->Arg(50)->Unit(benchmark::kMicrosecond
 // GrabCut on every object box (visible > 20 %) of a 752x480 street/high frame.
 void BM_GrabCutStreetFrame(benchmark::State& state) {
   test::TempDir tmp("adugs_bench_seg");
-  data::SimSequenceOptions o;
-  o.scene = "street";
-  o.level = data::SimLevel::kHigh;
-  o.seed = 3;
-  o.duration_s = 1.0;
-  o.progress = false;
-  data::generateSimSequence(o, tmp.path().string());
-  // Boxes of the last frame from the MOT file.
-  std::ifstream gt((tmp / "mav0/objects0/gt.txt").string());
-  std::string line;
-  std::map<int, std::vector<Box>> boxes;
-  while (std::getline(gt, line)) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream s(line);
-    int frame, id, cls;
-    double l, t, w, h, conf, vis;
-    if (s >> frame >> id >> l >> t >> w >> h >> conf >> cls >> vis && vis > 0.2)
-      boxes[frame].push_back(Box{l - 1 + w / 2, t - 1 + h / 2, w, h});
-  }
-  std::ifstream csv((tmp / "mav0/cam0/data.csv").string());
-  std::vector<std::string> names;
-  std::getline(csv, line);
-  while (std::getline(csv, line)) names.push_back(line.substr(line.find(',') + 1));
-  const int f = static_cast<int>(names.size());
-  const cv::Mat image =
-      cv::imread((tmp / ("mav0/cam0/data/" + names.back())).string(), cv::IMREAD_GRAYSCALE);
+  const auto street = test_support::makeSimulatedStreet(tmp.path(), 1.0);
+  const int f = static_cast<int>(street.image_names.size());
+  const cv::Mat image = cv::imread(street.imagePath(f), cv::IMREAD_GRAYSCALE);
+  const std::vector<Box> boxes = street.visibleBoxes(f, 0.2);
   GrabCutSegmenter seg;
-  for (auto _ : state) benchmark::DoNotOptimize(seg.segment(image, boxes[f]));
-  state.counters["boxes"] = static_cast<double>(boxes[f].size());
+  for (auto _ : state) benchmark::DoNotOptimize(seg.segment(image, boxes));
+  state.counters["boxes"] = static_cast<double>(boxes.size());
 }
 BENCHMARK(BM_GrabCutStreetFrame)->Unit(benchmark::kMillisecond);
 

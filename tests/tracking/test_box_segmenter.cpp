@@ -7,8 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "data/sim_sequence.h"
 #include "tests/test_support.h"
+#include "tests/tracking/simulated_street.h"
 #include "tracking/grabcut_segmenter.h"
 
 namespace adugs::tracking {
@@ -54,43 +54,19 @@ TEST(GrabCutSegmenter, SeparatesADiscFromItsBox) {
 // with the exact dynamic mask (visible object pixels).
 TEST(GrabCutSegmenter, SimulatedStreetMasksAgainstGroundTruth) {
   test::TempDir tmp("adugs_seg_sim");
-  data::SimSequenceOptions o;
-  o.scene = "street";
-  o.level = data::SimLevel::kHigh;
-  o.seed = 3;
-  o.duration_s = 3.0;
-  o.progress = false;
-  data::generateSimSequence(o, tmp.path().string());
-  // frame index (1-based) -> boxes
-  std::map<int, std::vector<Box>> boxes;
-  std::ifstream gt((tmp / "mav0/objects0/gt.txt").string());
-  std::string line;
-  while (std::getline(gt, line)) {
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream s(line);
-    int frame, id, cls;
-    double l, t, w, h, conf, vis;
-    if (s >> frame >> id >> l >> t >> w >> h >> conf >> cls >> vis && vis > 0.2)
-      boxes[frame].push_back(Box{l - 1 + w / 2, t - 1 + h / 2, w, h});
-  }
-  std::vector<std::string> stamps;
-  std::ifstream csv((tmp / "mav0/cam0/data.csv").string());
-  std::getline(csv, line);
-  while (std::getline(csv, line)) stamps.push_back(line.substr(0, line.find(',')));
-  ASSERT_GE(stamps.size(), 60u);
+  const auto street = test_support::makeSimulatedStreet(tmp.path(), 3.0);
+  ASSERT_GE(street.image_names.size(), 60u);
 
   GrabCutSegmenter grabcut;
   FilledBoxSegmenter filled;
   double inter_g = 0, seg_g = 0, inter_f = 0, seg_f = 0, truth = 0;
   for (int f : {20, 40, 60}) {
-    const std::string name = stamps[f - 1] + ".png";
-    const cv::Mat image =
-        cv::imread((tmp / ("mav0/cam0/data/" + name)).string(), cv::IMREAD_GRAYSCALE);
-    const cv::Mat mask =
-        cv::imread((tmp / ("mav0/mask0/data/" + name)).string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat image = cv::imread(street.imagePath(f), cv::IMREAD_GRAYSCALE);
+    const cv::Mat mask = cv::imread(street.maskPath(f), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(image.empty());
     ASSERT_FALSE(mask.empty());
-    const cv::Mat g = grabcut.segment(image, boxes[f]), b = filled.segment(image, boxes[f]);
+    const std::vector<Box> boxes = street.visibleBoxes(f, 0.2);
+    const cv::Mat g = grabcut.segment(image, boxes), b = filled.segment(image, boxes);
     truth += cv::countNonZero(mask);
     inter_g += cv::countNonZero(g & mask);
     seg_g += cv::countNonZero(g);

@@ -5,43 +5,17 @@
 // on it) and keep their identities.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <map>
 #include <random>
 #include <set>
-#include <sstream>
 
-#include "data/sim_sequence.h"
 #include "tests/test_support.h"
+#include "tests/tracking/simulated_street.h"
 #include "tracking/mot_metrics.h"
 #include "tracking/sort_tracker.h"
 
 namespace adugs::tracking {
 namespace {
-
-struct GtRow {
-  int64_t id;
-  Box box;
-  int class_id;
-  double visibility;
-};
-
-std::map<int, std::vector<GtRow>> readMotGroundTruth(const std::string& path) {
-  std::ifstream in(path);
-  std::map<int, std::vector<GtRow>> frames;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream s(line);
-    int frame, cls;
-    int64_t id;
-    double left, top, w, h, conf, vis;
-    if (!(s >> frame >> id >> left >> top >> w >> h >> conf >> cls >> vis)) continue;
-    frames[frame].push_back({id, Box{left - 1 + w / 2, top - 1 + h / 2, w, h}, cls, vis});
-  }
-  return frames;
-}
 
 struct Scores {
   MotCounts counts;
@@ -49,7 +23,7 @@ struct Scores {
   int long_gaps = 0;  // reappearances after more than max_age unscored frames
 };
 
-Scores runSort(const std::map<int, std::vector<GtRow>>& frames, int n_frames,
+Scores runSort(const std::map<int, std::vector<data::MotBox>>& frames, int n_frames,
                const SortOptions& options) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> drop(0.0, 1.0);
@@ -65,17 +39,18 @@ Scores runSort(const std::map<int, std::vector<GtRow>>& frames, int n_frames,
     std::vector<Box> ignored;
     const auto it = frames.find(f);
     if (it != frames.end()) {
-      for (const GtRow& r : it->second) {
+      for (const data::MotBox& r : it->second) {
+        const Box box{r.centerX(), r.centerY(), r.width, r.height};
         if (r.visibility < 0.4) {  // too hidden: not detected, not scored
-          ignored.push_back(r.box);
+          ignored.push_back(box);
           continue;
         }
-        gt.push_back({r.id, r.box});
+        gt.push_back({r.id, box});
         ids.insert(r.id);
         if (last_scored.count(r.id) && f - last_scored[r.id] > options.max_age + 1) ++long_gaps;
         last_scored[r.id] = f;
         if (drop(rng) < 0.1) continue;
-        Box b = r.box;
+        Box b = box;
         b.cx += jitter(rng);
         b.cy += jitter(rng);
         b.w *= 1 + jitter(rng) / 100;
@@ -92,14 +67,8 @@ Scores runSort(const std::map<int, std::vector<GtRow>>& frames, int n_frames,
 
 TEST(SortOnSimulatedStreet, KeepsOccludedObjectsCoveredAndTheirIds) {
   test::TempDir tmp("adugs_sort_sim");
-  data::SimSequenceOptions o;
-  o.scene = "street";
-  o.level = data::SimLevel::kHigh;
-  o.seed = 3;
-  o.duration_s = 10.0;
-  o.progress = false;
-  data::generateSimSequence(o, tmp.path().string());
-  const auto frames = readMotGroundTruth((tmp / "mav0/objects0/gt.txt").string());
+  const auto street = test_support::makeSimulatedStreet(tmp.path(), 10.0);
+  const auto& frames = street.boxes;
   ASSERT_GT(frames.size(), 100u);
   const Scores s = runSort(frames, 200, SortOptions{});
   const MotCounts& c = s.counts;

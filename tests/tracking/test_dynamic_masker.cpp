@@ -1,0 +1,74 @@
+// The whole dynamic-object stage after detection on simulated street frames: with a detector
+// that misses hidden objects and drops 30 % of the rest, SORT's coasting boxes keep the dynamic
+// mask on the objects, which segmenting each frame's detections alone does not.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "tests/test_support.h"
+#include "tests/tracking/simulated_street.h"
+#include "tracking/dynamic_masker.h"
+#include "tracking/grabcut_segmenter.h"
+
+namespace adugs::tracking {
+namespace {
+
+TEST(DynamicMasker, CoastingTracksKeepTheMaskOnObjectsWhoseDetectionsDrop) {
+  test::TempDir tmp("adugs_masker");
+  const auto street = test_support::makeSimulatedStreet(tmp.path(), 4.0);
+  const int frames = static_cast<int>(street.image_names.size());
+  ASSERT_GE(frames, 80);
+
+  DynamicMaskerOptions options;
+  DynamicMasker masker(options, std::make_unique<FilledBoxSegmenter>());
+  FilledBoxSegmenter per_frame;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double truth = 0, covered_masker = 0, covered_per_frame = 0, masked = 0, pixels = 0;
+  for (int f = 1; f <= frames; ++f) {
+    std::vector<Detection> dets;
+    std::vector<Box> det_boxes;
+    for (const Box& b : street.visibleBoxes(f, 0.4)) {
+      if (u(rng) < 0.3) continue;
+      dets.push_back({b, 0});
+      det_boxes.push_back(b);
+    }
+    const cv::Mat image = cv::imread(street.imagePath(f), cv::IMREAD_GRAYSCALE);
+    const cv::Mat truth_mask = cv::imread(street.maskPath(f), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(image.empty());
+    const DynamicMaskResult r = masker.process(image, dets);
+    ASSERT_EQ(r.mask.size(), image.size());
+    ASSERT_EQ(r.mask.type(), CV_8UC1);
+    if (f <= 10) continue;  // let the tracks start
+    // Score on the objects the detector can see at all (the hidden ones are nobody's job).
+    cv::Mat scored = cv::Mat::zeros(image.size(), CV_8UC1);
+    for (const Box& b : street.visibleBoxes(f, 0.4))
+      scored(clippedRect(b, image.cols, image.rows)).setTo(255);
+    const cv::Mat target = truth_mask & scored;
+    const cv::Mat plain =
+        refineDynamicMask(per_frame.segment(image, det_boxes), options.refinement);
+    truth += cv::countNonZero(target);
+    covered_masker += cv::countNonZero(target & r.mask);
+    covered_per_frame += cv::countNonZero(target & plain);
+    masked += cv::countNonZero(r.mask);
+    pixels += image.total();
+  }
+  ASSERT_GT(truth, 10000);
+  const double recall_masker = covered_masker / truth, recall_plain = covered_per_frame / truth;
+  std::cout << "dynamic pixels covered: masker " << recall_masker << ", per-frame detections "
+            << recall_plain << "; image fraction masked " << masked / pixels << "\n";
+  EXPECT_GT(recall_masker, 0.93);  // measured 0.944 (seed 3, 4 s)
+  EXPECT_GT(recall_masker, recall_plain + 0.1);
+}
+
+TEST(DynamicMasker, EmptyFramesGiveAnEmptyMaskAndNullSegmenterIsRefused) {
+  DynamicMasker masker(DynamicMaskerOptions{}, std::make_unique<GrabCutSegmenter>());
+  const DynamicMaskResult r = masker.process(cv::Mat(48, 64, CV_8UC1, cv::Scalar(90)), {});
+  EXPECT_EQ(cv::countNonZero(r.mask), 0);
+  EXPECT_TRUE(r.objects.empty());
+  EXPECT_THROW(DynamicMasker(DynamicMaskerOptions{}, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace adugs::tracking
