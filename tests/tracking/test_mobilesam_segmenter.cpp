@@ -1,0 +1,279 @@
+// MobileSAM weights are not available on the build machines, so these tests drive the real
+// MobileSamSegmenter code path (signature checks, OpenCV dnn import, pre-processing, box prompt,
+// post-processing) with tiny graphs of the same ONNX signature whose output is known in closed
+// form: tests/tracking/make_sam_like_onnx.py documents them.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "data/input_error.h"
+#include "tests/test_support.h"
+#include "tracking/mobilesam_segmenter.h"
+#include "tracking/onnx_signature.h"
+#include "tracking/sam_transforms.h"
+#include "tracking/segmenter_factory.h"
+
+namespace adugs::tracking {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The models are baked for this image size (their 'masks' output has it).
+constexpr int kHeight = 480, kWidth = 640;
+
+// Writes the SAM-like graphs once per test run; an empty path after a FAIL.
+const fs::path& samLikeModels() {
+  static test::TempDir dir("adugs_sam_like");
+  static bool generated = false;
+  if (!generated) {
+    if (std::system("/usr/bin/python3 -c 'import onnx' > /dev/null 2>&1") != 0) {
+      ADD_FAILURE() << "/usr/bin/python3 with the onnx module (Debian package python3-onnx) is "
+                       "needed to generate the test graphs: run scripts/setup.sh";
+      static const fs::path none;
+      return none;
+    }
+    const std::string command = std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
+                                "/tests/tracking/make_sam_like_onnx.py " + dir.path().string() +
+                                " " + std::to_string(kHeight) + " " + std::to_string(kWidth);
+    if (std::system(command.c_str()) != 0) {
+      ADD_FAILURE() << "generating the SAM-like graphs failed: " << command;
+      static const fs::path none;
+      return none;
+    }
+    generated = true;
+  }
+  return dir.path();
+}
+
+#define REQUIRE_MODELS()                   \
+  const fs::path models = samLikeModels(); \
+  if (models.empty()) FAIL() << "no models"
+
+// A black scene with red rectangles (objects) and prompt boxes, all scaled by s. Edges are
+// multiples of 10 px at s = 1 (of 5 px at s = 0.5), i.e. 16 px in the 1024 frame: the encoder's
+// 16 x 16 pooling cells then hold pure object or pure background.
+struct Scene {
+  cv::Mat image;
+  std::vector<cv::Rect> objects;
+  std::vector<Box> boxes;
+};
+
+Scene makeScene(double s) {
+  Scene scene;
+  scene.image =
+      cv::Mat::zeros(static_cast<int>(kHeight * s), static_cast<int>(kWidth * s), CV_8UC3);
+  const auto rect = [s](int x0, int y0, int x1, int y1) {
+    return cv::Rect(cv::Point(static_cast<int>(x0 * s), static_cast<int>(y0 * s)),
+                    cv::Point(static_cast<int>(x1 * s), static_cast<int>(y1 * s)));
+  };
+  scene.objects = {rect(200, 100, 360, 300), rect(500, 320, 600, 440)};
+  for (const cv::Rect& r : scene.objects) scene.image(r).setTo(cv::Scalar(0, 0, 255));  // BGR red
+  scene.boxes = {
+      Box::fromCorners(150 * s, 150 * s, 300 * s, 400 * s),  // cuts through object 0
+      Box::fromCorners(400 * s, 30 * s, 480 * s, 250 * s),   // background only
+      Box::fromCorners(470 * s, 290 * s, 630 * s, 520 * s),  // holds object 1, leaves the image
+  };
+  return scene;
+}
+
+// What the SAM-like decoder predicts: inside a box AND on a red object; a box with no object
+// pixel falls back to the whole (clipped) box. Also returns the pixels within `band` px of any
+// box or object edge, where bilinear interpolation blurs the logit's zero crossing.
+cv::Mat expectedMask(const Scene& scene, int band, cv::Mat* near_edges) {
+  cv::Mat objects = cv::Mat::zeros(scene.image.size(), CV_8UC1);
+  for (const cv::Rect& r : scene.objects) objects(r).setTo(255);
+  cv::Mat expected = cv::Mat::zeros(scene.image.size(), CV_8UC1);
+  *near_edges = cv::Mat::zeros(scene.image.size(), CV_8UC1);
+  for (const Box& b : scene.boxes) {
+    const cv::Rect r = clippedRect(b, scene.image.cols, scene.image.rows);
+    cv::Mat object = objects(r).clone();
+    if (cv::countNonZero(object) == 0) object.setTo(255);
+    cv::Mat target = expected(r);
+    cv::bitwise_or(target, object, target);
+    cv::rectangle(*near_edges, r, cv::Scalar(255), 2 * band + 1);
+  }
+  for (const cv::Rect& r : scene.objects)
+    cv::rectangle(*near_edges, r, cv::Scalar(255), 2 * band + 1);
+  return expected;
+}
+
+int mismatchesAwayFromEdges(const cv::Mat& mask, const Scene& scene, int band) {
+  cv::Mat near_edges;
+  const cv::Mat expected = expectedMask(scene, band, &near_edges);
+  cv::Mat diff = mask != expected;
+  diff.setTo(0, near_edges);
+  return cv::countNonZero(diff);
+}
+
+TEST(SamTransforms, ResizeLongestSideAndBoxPromptByHand) {
+  EXPECT_EQ(samResizedSize({640, 480}), cv::Size(1024, 768));
+  EXPECT_EQ(samResizedSize({480, 640}), cv::Size(768, 1024));
+  // 1024 / 333 * 200 = 615.02 -> 615 (SAM rounds with floor(x + 0.5)).
+  EXPECT_EQ(samResizedSize({333, 200}), cv::Size(1024, 615));
+  // x * 1024/640 = 1.6 x, y * 768/480 = 1.6 y.
+  const cv::Vec4f c = samBoxPrompt(Box::fromCorners(100, 80, 300, 260), {640, 480});
+  EXPECT_FLOAT_EQ(c[0], 160);
+  EXPECT_FLOAT_EQ(c[1], 128);
+  EXPECT_FLOAT_EQ(c[2], 480);
+  EXPECT_FLOAT_EQ(c[3], 416);
+}
+
+float blobAt(const cv::Mat& blob, int c, int y, int x) {
+  const int index[] = {0, c, y, x};
+  return blob.at<float>(index);
+}
+
+TEST(SamTransforms, EncoderInputIsNormalisedRgbPaddedBottomRight) {
+  const cv::Mat red(48, 64, CV_8UC3, cv::Scalar(0, 0, 255));  // BGR
+  const cv::Mat blob = samEncoderInput(red);
+  ASSERT_EQ(blob.dims, 4);
+  EXPECT_EQ(blob.size[1], 3);
+  EXPECT_EQ(blob.size[2], 1024);
+  // Channel 0 is R: (255 - 123.675) / 58.395; channel 2 is B: (0 - 103.53) / 57.375.
+  EXPECT_NEAR(blobAt(blob, 0, 10, 10), 2.24891, 1e-4);
+  EXPECT_NEAR(blobAt(blob, 1, 10, 10), -116.28 / 57.12, 1e-4);
+  EXPECT_NEAR(blobAt(blob, 2, 767, 1023), -1.80444, 1e-4);
+  // The image fills rows [0, 768); rows below are zero padding.
+  EXPECT_EQ(blobAt(blob, 0, 768, 10), 0.0f);
+  EXPECT_EQ(blobAt(blob, 2, 1023, 1023), 0.0f);
+}
+
+TEST(SamTransforms, LowResMaskIsCroppedToTheResizedImageBeforeUpscaling) {
+  // Positive above low-res row 96 = 1024-frame row 384 = image row 384 / 1.6 = 240 of 480.
+  // Without the crop to 768 rows it would end at row 96 * 4 * 480 / 1024 = 180.
+  cv::Mat low_res(256, 256, CV_32F, cv::Scalar(-1));
+  low_res.rowRange(0, 96).setTo(1);
+  const cv::Mat logits = samUpscaleLowResMask(low_res, {640, 480});
+  ASSERT_EQ(logits.size(), cv::Size(640, 480));
+  EXPECT_GT(logits.at<float>(236, 100), 0);
+  EXPECT_LT(logits.at<float>(244, 100), 0);
+}
+
+TEST(OnnxSignature, ReadsTheSamLikeDecoderSignature) {
+  REQUIRE_MODELS();
+  const OnnxSignature sig = readOnnxSignature((models / "decoder.onnx").string());
+  ASSERT_EQ(sig.inputs.size(), 6u);  // initializers are not inputs
+  EXPECT_EQ(sig.inputs[1].name, "point_coords");
+  EXPECT_EQ(describeShape(sig.inputs[1]), "[1, ?, 2]");
+  ASSERT_EQ(sig.outputs.size(), 3u);
+  EXPECT_EQ(sig.outputs[0].name, "masks");
+  EXPECT_EQ(describeShape(sig.outputs[0]), "[1, 1, 480, 640]");
+  EXPECT_EQ(sig.op_types.front(), "Reshape");
+}
+
+TEST(MobileSamSegmenter, SegmentsBoxTimesObjectWithTheDecodersMasks) {
+  REQUIRE_MODELS();
+  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
+  const Scene scene = makeScene(1.0);
+  const cv::Mat mask = sam.segment(scene.image, scene.boxes);
+  ASSERT_EQ(mask.size(), scene.image.size());
+  ASSERT_EQ(mask.type(), CV_8UC1);
+  EXPECT_EQ(mismatchesAwayFromEdges(mask, scene, 3), 0);
+  EXPECT_EQ(sam.lastFallbacks(), 1);  // the background-only box
+  // Object 1 is all of box 2's mask: the box corners around it are not masked.
+  EXPECT_EQ(mask.at<uchar>(300, 480), 0);
+  EXPECT_EQ(mask.at<uchar>(380, 550), 255);
+  EXPECT_EQ(cv::countNonZero(sam.segment(scene.image, {})), 0);
+  // The decoder's own 'masks' (of the image size) are used, not the low-res logits.
+  MobileSamSegmenter inverted_low_res((models / "encoder.onnx").string(),
+                                      (models / "decoder_inverted_low_res.onnx").string());
+  EXPECT_EQ(cv::countNonZero(inverted_low_res.segment(scene.image, scene.boxes) != mask), 0);
+}
+
+TEST(MobileSamSegmenter, UpscalesLowResMasksWhenTheMasksOutputHasAnotherSize) {
+  REQUIRE_MODELS();
+  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
+  const Scene scene = makeScene(0.5);  // 320 x 240: the decoder's 'masks' are 640 x 480
+  const cv::Mat mask = sam.segment(scene.image, scene.boxes);
+  ASSERT_EQ(mask.size(), scene.image.size());
+  EXPECT_EQ(mismatchesAwayFromEdges(mask, scene, 2), 0);
+  EXPECT_EQ(sam.lastFallbacks(), 1);
+}
+
+TEST(MobileSamSegmenter, GreyImagesAreAccepted) {
+  REQUIRE_MODELS();
+  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
+  // A white square in a grey image: R = 255 inside, 0 outside, so box times square again.
+  cv::Mat grey = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
+  grey(cv::Rect(200, 100, 160, 200)).setTo(255);
+  const cv::Mat mask = sam.segment(grey, {Box::fromCorners(150, 150, 300, 400)});
+  EXPECT_EQ(mask.at<uchar>(200, 250), 255);
+  EXPECT_EQ(mask.at<uchar>(200, 170), 0);  // in the box, off the square
+  EXPECT_EQ(mask.at<uchar>(350, 250), 0);
+}
+
+// Expects data::InputError whose message contains every given fragment.
+void expectInputError(const std::function<void()>& f, const std::vector<std::string>& fragments) {
+  try {
+    f();
+    ADD_FAILURE() << "no data::InputError thrown";
+  } catch (const data::InputError& e) {
+    for (const std::string& s : fragments)
+      EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << e.what() << "\nlacks: " << s;
+  }
+}
+
+TEST(MobileSamSegmenter, BadModelFilesGiveErrorsNamingTheFile) {
+  REQUIRE_MODELS();
+  const std::string encoder = (models / "encoder.onnx").string();
+  const std::string decoder = (models / "decoder.onnx").string();
+  test::TempDir dir;
+  const std::string missing = (dir / "no_such_encoder.onnx").string();
+  expectInputError([&] { MobileSamSegmenter s(missing, decoder); }, {missing, "cannot open"});
+  const std::string text = (dir / "notes.onnx").string();
+  test::writeText(text, "this is a text file, not an ONNX model\n");
+  expectInputError([&] { MobileSamSegmenter s(text, decoder); }, {text, "not a valid ONNX model"});
+  expectInputError([&] { MobileSamSegmenter s(encoder, text); }, {text, "not a valid ONNX model"});
+  // Empty and truncated models: rejected by the signature reader, never a crash.
+  const std::string empty = (dir / "empty.onnx").string();
+  test::writeText(empty, "");
+  expectInputError([&] { MobileSamSegmenter s(encoder, empty); }, {empty, "not a valid ONNX"});
+  std::ifstream whole(decoder, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(whole)), {});
+  const std::string truncated = (dir / "truncated.onnx").string();
+  for (size_t length : {size_t{1}, size_t{40}, bytes.size() / 2, bytes.size() - 3}) {
+    std::ofstream(truncated, std::ios::binary).write(bytes.data(), length);
+    expectInputError([&] { MobileSamSegmenter s(encoder, truncated); }, {truncated});
+  }
+  const std::string wrong = (models / "decoder_wrong_names.onnx").string();
+  expectInputError([&] { MobileSamSegmenter s(encoder, wrong); },
+                   {wrong, "field 'inputs'", "'point_coords' is missing", "coords [1, ?, 2]"});
+  // Files swapped: each is checked against its role.
+  expectInputError([&] { MobileSamSegmenter s(decoder, encoder); },
+                   {decoder, "not a SAM image encoder", "image_embeddings [1, 256, 64, 64]"});
+  expectInputError([&] { MobileSamSegmenter s(encoder, encoder); },
+                   {encoder, "not a SAM prompt decoder"});
+}
+
+// The real SAM decoder exported at opset 17 contains LayerNormalization, which OpenCV 4.6's
+// importer lacks: the error must say so at load time.
+TEST(MobileSamSegmenter, UnsupportedOpIsNamedAtLoadTime) {
+  REQUIRE_MODELS();
+  const std::string decoder = (models / "decoder_layer_norm.onnx").string();
+  expectInputError([&] { MobileSamSegmenter s((models / "encoder.onnx").string(), decoder); },
+                   {decoder, "op 'LayerNormalization'"});
+}
+
+TEST(SegmenterFactory, BuildsEachKindAndRejectsBadRequests) {
+  EXPECT_STREQ(makeBoxSegmenter()->name(), "grabcut");
+  EXPECT_STREQ(makeBoxSegmenter("grabcut")->name(), "grabcut");
+  EXPECT_STREQ(makeBoxSegmenter("box")->name(), "box");
+  EXPECT_THROW(makeBoxSegmenter("mobilesam"), std::invalid_argument);
+  EXPECT_THROW(makeBoxSegmenter("mobilesam", "enc.onnx", ""), std::invalid_argument);
+  EXPECT_THROW(makeBoxSegmenter("sam2"), std::invalid_argument);
+  EXPECT_THROW(makeBoxSegmenter("mobilesam", "/nonexistent/enc.onnx", "/nonexistent/dec.onnx"),
+               data::InputError);
+  REQUIRE_MODELS();
+  const auto sam = makeBoxSegmenter("mobilesam", (models / "encoder.onnx").string(),
+                                    (models / "decoder.onnx").string());
+  EXPECT_STREQ(sam->name(), "mobilesam");
+}
+
+}  // namespace
+}  // namespace adugs::tracking

@@ -1,0 +1,17 @@
+#pragma once
+// Builds the box segmenter the user asked for: "grabcut" (weight-free default), "box" (filled
+// boxes) or "mobilesam" (needs the encoder and decoder ONNX files; see mobilesam_segmenter.h).
+#include <memory>
+#include <string>
+
+#include "tracking/box_segmenter.h"
+
+namespace adugs::tracking {
+
+// Throws std::invalid_argument for an unknown kind or "mobilesam" without both paths, and
+// data::InputError (naming the file) for models that cannot be used.
+std::unique_ptr<BoxSegmenter> makeBoxSegmenter(const std::string& kind = "grabcut",
+                                               const std::string& encoder = "",
+                                               const std::string& decoder = "");
+
+}  // namespace adugs::tracking
