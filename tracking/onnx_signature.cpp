@@ -151,12 +151,7 @@ OnnxSignature parseGraph(const Field& graph) {
 
 }  // namespace
 
-OnnxSignature readOnnxSignature(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw data::InputError(path, 0, "", "cannot open the ONNX model file");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  const std::string content = bytes.str();
+OnnxSignature parseOnnxSignature(const std::string& content, const std::string& name) {
   try {
     MessageReader model(content.data(), content.size());
     Field f;
@@ -169,8 +164,16 @@ OnnxSignature readOnnxSignature(const std::string& path) {
     }
     throw std::runtime_error("no graph found");
   } catch (const std::runtime_error& e) {
-    throw data::InputError(path, 0, "", std::string("not a valid ONNX model (") + e.what() + ")");
+    throw data::InputError(name, 0, "", std::string("not a valid ONNX model (") + e.what() + ")");
   }
+}
+
+OnnxSignature readOnnxSignature(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw data::InputError(path, 0, "", "cannot open the ONNX model file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return parseOnnxSignature(bytes.str(), path);
 }
 
 std::string describeShape(const OnnxTensorInfo& tensor) {

@@ -23,6 +23,8 @@ struct OnnxSignature {
 
 // Throws data::InputError naming the file when it is missing, unreadable or not an ONNX model.
 OnnxSignature readOnnxSignature(const std::string& path);
+// The same from the file's bytes; `name` goes into error messages.
+OnnxSignature parseOnnxSignature(const std::string& content, const std::string& name);
 
 // "[1, 256, 64, 64]", "?" for symbolic dimensions, "[unknown]" without a declared shape.
 std::string describeShape(const OnnxTensorInfo& tensor);
