@@ -1,7 +1,8 @@
 // `adugs run`: plays a recorded sequence through an estimator and writes the trajectory, a run
 // summary and, when ground truth is present, the evaluation (ATE, RPE, plot).
 //
-// Estimators available now:
+// Estimators:
+//   vio       the visual-inertial odometry (front-end + sliding-window estimator, app/run_vio.cpp)
 //   imu-only  strapdown IMU dead reckoning started from the ground-truth state at the first
 //             frame (needs ground truth). It is the baseline the visual-inertial estimator must
 //             beat by orders of magnitude, and it exercises the whole pipeline: streaming reader,
@@ -14,6 +15,7 @@
 
 #include "app/commands.h"
 #include "app/run_report.h"
+#include "app/run_vio.h"
 #include "data/euroc_reader.h"
 #include "data/input_error.h"
 #include "data/trajectory_io.h"
@@ -27,13 +29,15 @@ struct RunArgs {
   std::string dataset = "euroc";
   std::string path;
   std::string out_dir = "out/run";
-  std::string estimator = "imu-only";
+  std::string estimator = "vio";
+  std::string config_path;
+  std::string mask = "none";
   std::string gt_path;  // overrides mav0/state_groundtruth_estimate0/data.csv
   bool skip_bad_frames = false;
   bool quiet = false;
 };
 
-void runSequence(const RunArgs& a) {
+void runImuOnly(const RunArgs& a) {
   data::EurocReaderOptions reader_options;
   reader_options.skip_bad_frames = a.skip_bad_frames;
   reader_options.load_images = false;  // the imu-only estimator does not look at images
@@ -73,8 +77,27 @@ void runSequence(const RunArgs& a) {
   }
   writer.close();
   stats.skipped_frames = reader.skippedFrames();
-  stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  stats.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   writeRunOutputs(a.out_dir, "imu-only", traj_path, gt_path, stats);
+}
+
+void runSequence(const RunArgs& a) {
+  if (a.estimator == "imu-only") {
+    if (a.mask != "none" || !a.config_path.empty())
+      throw CLI::ValidationError("--mask/--config", "only the vio estimator uses them");
+    runImuOnly(a);
+    return;
+  }
+  VioRunArgs v;
+  v.path = a.path;
+  v.out_dir = a.out_dir;
+  v.gt_path = a.gt_path;
+  v.config_path = a.config_path;
+  v.mask = a.mask;
+  v.skip_bad_frames = a.skip_bad_frames;
+  v.quiet = a.quiet;
+  runVio(v);
 }
 
 }  // namespace
@@ -93,8 +116,16 @@ void registerRunCommand(CLI::App& root) {
                   "ground truth (EuRoC CSV or TUM) if not mav0/state_groundtruth_estimate0")
       ->check(CLI::ExistingFile);
   cmd->add_option("--estimator", args->estimator,
-                  "imu-only: IMU dead reckoning from the ground-truth initial state (baseline)")
-      ->check(CLI::IsMember({"imu-only"}))
+                  "vio: visual-inertial odometry; imu-only: IMU dead reckoning from the "
+                  "ground-truth initial state (baseline)")
+      ->check(CLI::IsMember({"vio", "imu-only"}))
+      ->capture_default_str();
+  cmd->add_option("--config", args->config_path,
+                  "run config YAML (tracker:, estimator: maps; see data/config/)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--mask", args->mask,
+                  "dynamic mask per frame: none, or gt = the simulator's mav0/mask0 masks")
+      ->check(CLI::IsMember({"none", "gt"}))
       ->capture_default_str();
   cmd->add_flag("--skip-bad-frames", args->skip_bad_frames,
                 "skip missing or corrupt images with a warning instead of stopping");

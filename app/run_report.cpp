@@ -26,11 +26,11 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
           << "sequence_s: " << stats.sequence_s << "\n"
           << "wall_s: " << stats.wall_s << "\n"
           << "realtime_factor: " << (stats.wall_s > 0 ? stats.sequence_s / stats.wall_s : 0.0)
-          << "\n";
+          << "\n"
+          << stats.extra_summary;
 
-  std::cout << "adugs run (" << estimator << "): " << stats.poses << " poses from "
-            << stats.frames << " frames (" << stats.sequence_s << " s of data) in "
-            << stats.wall_s << " s\n"
+  std::cout << "adugs run (" << estimator << "): " << stats.poses << " poses from " << stats.frames
+            << " frames (" << stats.sequence_s << " s of data) in " << stats.wall_s << " s\n"
             << "  trajectory  " << trajectory_path << "\n";
 
   if (!gt_path.empty() && stats.poses >= 3) {
@@ -49,7 +49,8 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
     char line[256];
     std::snprintf(line, sizeof(line),
                   "  ATE (se3)   RMSE %.4f m, max %.4f m over %zu poses, %.2f m travelled\n",
-                  r.ate.translation.rmse, r.ate.translation.max, r.ate.translation.count, r.gt_length_m);
+                  r.ate.translation.rmse, r.ate.translation.max, r.ate.translation.count,
+                  r.gt_length_m);
     std::cout << line << "  plot        " << plot << "\n";
   }
   const std::string summary_path = (fs::path(out_dir) / "summary.yaml").string();

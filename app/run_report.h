@@ -11,8 +11,9 @@ struct RunStats {
   size_t imu_samples = 0;
   size_t poses = 0;
   size_t skipped_frames = 0;
-  double sequence_s = 0.0;  // sequence time spanned by the frames
-  double wall_s = 0.0;      // processing time
+  double sequence_s = 0.0;    // sequence time spanned by the frames
+  double wall_s = 0.0;        // processing time
+  std::string extra_summary;  // estimator-specific YAML lines appended to summary.yaml
 };
 
 // Writes out_dir/summary.yaml, evaluates against gt_path when not empty (se3 alignment), prints

@@ -1,8 +1,8 @@
 // End-to-end: `adugs run` on the real EuRoC micro sequence and on bad input.
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
@@ -16,7 +16,8 @@ TEST(CmdRun, ImuOnlyBaselineOnRealEurocMicroWritesTrajectorySummaryAndPlot) {
   TempDir out;
   std::string log;
   const std::string gt = (seq / "groundtruth" / "V1_01_easy_vicon2gt.csv").string();
-  ASSERT_EQ(runAdugs("run -q " + seq.string() + " --gt " + gt + " --out " + out.path().string(),
+  ASSERT_EQ(runAdugs("run -q --estimator imu-only " + seq.string() + " --gt " + gt + " --out " +
+                         out.path().string(),
                      &log),
             0)
       << log;
@@ -44,7 +45,11 @@ TEST(CmdRun, SequenceWithoutGroundTruthIsRefusedByTheImuOnlyBaseline) {
   ADUGS_REQUIRE_SHARED(seq);
   TempDir out;
   std::string log;
-  EXPECT_EQ(runAdugs("run -q " + seq.string() + " --out " + out.path().string(), &log), 2) << log;
+  EXPECT_EQ(
+      runAdugs("run -q --estimator imu-only " + seq.string() + " --out " + out.path().string(),
+               &log),
+      2)
+      << log;
   EXPECT_NE(log.find("state_groundtruth_estimate0"), std::string::npos) << log;
 }
 

@@ -1,0 +1,116 @@
+// `adugs run` with the visual-inertial estimator (the default) end to end.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "data/trajectory_io.h"
+#include "tests/test_support.h"
+
+namespace adugs::test {
+namespace {
+
+const std::string kSourceDir = ADUGS_SOURCE_DIR;
+
+std::string readFile(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The real EuRoC micro sequence stands still: static initialisation, and the bar of
+// less than 5 cm drift from the first pose over the 4.7 s.
+TEST(CmdRunVio, RealEurocMicroInitialisesStaticallyAndStaysPut) {
+  const auto seq = sharedDataDir() / "euroc_v101_micro";
+  ADUGS_REQUIRE_SHARED(seq);
+  TempDir out;
+  std::string log;
+  const std::string gt = (seq / "groundtruth" / "V1_01_easy_vicon2gt.csv").string();
+  ASSERT_EQ(runAdugs("run -q " + seq.string() + " --config " + kSourceDir +
+                         "/data/config/euroc.yaml --gt " + gt + " --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const std::string summary = readFile(out / "summary.yaml");
+  EXPECT_NE(summary.find("init_kind: static"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("resets: 0"), std::string::npos) << summary;
+  const auto traj = data::readTrajectory((out / "trajectory.tum").string());
+  ASSERT_GT(traj.size(), 70u);
+  double max_drift = 0;
+  for (const auto& p : traj) max_drift = std::max(max_drift, (p.p_W_B - traj.front().p_W_B).norm());
+  std::cout << "micro: " << traj.size() << " poses, max drift from the first pose " << max_drift
+            << " m\n";
+  EXPECT_LT(max_drift, 0.05);
+  EXPECT_TRUE(std::filesystem::exists(out / "eval.png"));
+}
+
+class CmdRunVioSim : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("adugs_run_vio_sim");
+    std::string log;
+    ASSERT_EQ(runAdugs("sim --scene street --level high --seed 5 --duration 6 --out " +
+                           dir_->path().string(),
+                       &log),
+              0)
+        << log;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
+};
+TempDir* CmdRunVioSim::dir_ = nullptr;
+
+TEST_F(CmdRunVioSim, GroundTruthMasksRunEndToEndWithSummary) {
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " + kSourceDir +
+                         "/data/config/sim.yaml --mask gt --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const std::string summary = readFile(out / "summary.yaml");
+  for (const char* key : {"mask: gt", "keyframes:", "init_kind: visual-inertial",
+                          "frontend_median:", "backend_median:", "ate_se3_rmse_m:"})
+    EXPECT_NE(summary.find(key), std::string::npos) << key << "\n" << summary;
+  const auto traj = data::readTrajectory((out / "trajectory.tum").string());
+  EXPECT_GT(traj.size(), 90u);
+  EXPECT_NE(log.find("ATE (se3)"), std::string::npos) << log;
+}
+
+TEST_F(CmdRunVioSim, MaskOfTheWrongSizeIsAnErrorNamingTheFile) {
+  TempDir copy;
+  std::filesystem::copy(dir_->path(), copy.path(), std::filesystem::copy_options::recursive);
+  const auto masks = copy.path() / "mav0" / "mask0" / "data";
+  const auto first = *std::filesystem::directory_iterator(masks);
+  cv::imwrite(first.path().string(), cv::Mat::zeros(10, 10, CV_8UC1));
+  TempDir out;
+  std::string log;
+  EXPECT_EQ(
+      runAdugs("run -q " + copy.path().string() + " --mask gt --out " + out.path().string(), &log),
+      2)
+      << log;
+  EXPECT_NE(log.find(first.path().filename().string()), std::string::npos) << log;
+  EXPECT_NE(log.find("10x10"), std::string::npos) << log;
+}
+
+TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
+  TempDir out;
+  writeText(out / "bad.yaml", "estimator:\n  window_size: 2\n");
+  std::string log;
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
+                         (out / "bad.yaml").string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("window_size"), std::string::npos) << log;
+  writeText(out / "typo.yaml", "tracker:\n  max_featurs: 100\n");
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
+                         (out / "typo.yaml").string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("max_featurs"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace adugs::test

@@ -1,0 +1,142 @@
+// The sliding-window estimator end to end in-process: generated sequences with exact ground
+// truth through the real front-end (FeatureTracker) and the estimator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "data/euroc_reader.h"
+#include "data/sim_sequence.h"
+#include "data/trajectory_io.h"
+#include "tests/test_support.h"
+#include "vio/camera_model.h"
+#include "vio/feature_tracker.h"
+#include "vio/sliding_window_estimator.h"
+#include "vio/trajectory_eval.h"
+
+namespace adugs::vio {
+namespace {
+
+struct PipelineRun {
+  data::Trajectory trajectory;
+  EstimatorStats stats;
+  bool all_finite = true;
+};
+
+// Plays an EuRoC folder through tracker + estimator. edit_image may change a frame's image
+// (by its index) before tracking.
+PipelineRun runPipeline(const std::string& root,
+                        const std::function<void(int, cv::Mat&)>& edit_image = {}) {
+  data::EurocReader reader(root);
+  const CameraModel camera(reader.camera());
+  FeatureTracker tracker(FeatureTrackerOptions{}, camera);
+  ImuPreintegrationOptions imu;
+  imu.gyro_noise_density = reader.imuNoise().gyro_noise_density;
+  imu.accel_noise_density = reader.imuNoise().accel_noise_density;
+  imu.gyro_random_walk = reader.imuNoise().gyro_random_walk;
+  imu.accel_random_walk = reader.imuNoise().accel_random_walk;
+  SlidingWindowEstimator estimator(EstimatorOptions{}, camera.fx(), reader.camera().T_B_C, imu);
+  PipelineRun run;
+  data::Measurement m;
+  int frame = 0;
+  while (reader.next(m)) {
+    if (m.isImu()) {
+      estimator.addImu(m.imu);
+      continue;
+    }
+    if (edit_image) edit_image(frame, m.frame.image);
+    ++frame;
+    const auto state = estimator.addFrame(tracker.trackFrame(m.frame.t_ns, m.frame.image));
+    if (!state) continue;
+    run.all_finite = run.all_finite && state->p_W_B.allFinite() &&
+                     state->q_W_B.coeffs().allFinite() && state->v_W.allFinite();
+    data::StampedPose p;
+    p.t_ns = state->t_ns;
+    p.p_W_B = state->p_W_B;
+    p.q_W_B = state->q_W_B;
+    run.trajectory.push_back(p);
+  }
+  run.stats = estimator.stats();
+  return run;
+}
+
+std::string makeSequence(const test::TempDir& tmp, const char* level, double duration_s) {
+  data::SimSequenceOptions o;
+  o.scene = "street";
+  o.level = std::string(level) == "none" ? data::SimLevel::kNone : data::SimLevel::kHigh;
+  o.seed = 1;
+  o.duration_s = duration_s;
+  o.progress = false;
+  data::generateSimSequence(o, tmp.path().string());
+  return tmp.path().string();
+}
+
+EvalResult evaluate(const data::Trajectory& est, const std::string& root) {
+  return evaluateTrajectory(
+      est, data::readTrajectory(root + "/mav0/state_groundtruth_estimate0/data.csv"),
+      EvalOptions{});
+}
+
+TEST(SlidingWindowEstimator, StaticStreetTracksWithinOnePercent) {
+  test::TempDir tmp("adugs_swe_none");
+  const std::string root = makeSequence(tmp, "none", 10.0);
+  const PipelineRun run = runPipeline(root);
+  ASSERT_TRUE(run.all_finite);
+  EXPECT_EQ(run.stats.init_kind, "visual-inertial");
+  EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+  EXPECT_GT(run.stats.keyframes, 10);
+  ASSERT_GT(run.trajectory.size(), 180u) << "initialises within the first half second";
+  const EvalResult r = evaluate(run.trajectory, root);
+  std::cout << "street/none 10 s: ATE " << r.ate.translation.rmse << " m over " << r.gt_length_m
+            << " m\n";
+  // Measured 0.113 m over 12.0 m (0.94 %, mostly the initialisation transient of a 10 s run);
+  // doc/results.md has the 60 s figures.
+  EXPECT_LT(r.ate.translation.rmse, 0.015 * r.gt_length_m);
+}
+
+TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
+  test::TempDir tmp("adugs_swe_blackout");
+  const std::string root = makeSequence(tmp, "none", 8.0);
+  // Frames 60..69 (3.0-3.5 s) are black: no features -> failure -> reset, then re-initialise.
+  const PipelineRun run = runPipeline(root, [](int frame, cv::Mat& image) {
+    if (frame >= 60 && frame < 70) image.setTo(0);
+  });
+  ASSERT_TRUE(run.all_finite);
+  EXPECT_GE(run.stats.resets, 1);
+  EXPECT_NE(run.stats.last_failure.find("too few tracked features"), std::string::npos)
+      << run.stats.last_failure;
+  // Poses resume after the blackout (re-initialised), none emitted during it.
+  int after = 0;
+  for (const auto& p : run.trajectory) {
+    const double t = data::nsToSec(p.t_ns - run.trajectory.front().t_ns);
+    EXPECT_FALSE(t > 3.0 && t < 3.45) << "pose emitted during the blackout at " << t;
+    after += t > 4.0;
+  }
+  EXPECT_GT(after, 40);
+}
+
+TEST(SlidingWindowEstimator, RejectsBadInput) {
+  ImuPreintegrationOptions imu;
+  EstimatorOptions options;
+  SlidingWindowEstimator e(options, 460.0, Eigen::Isometry3d::Identity(), imu);
+  data::ImuSample s;
+  s.t_ns = 100;
+  s.accel = Eigen::Vector3d(0, 0, 9.81);
+  e.addImu(s);
+  EXPECT_THROW(e.addImu(s), std::invalid_argument);  // same time
+  s.t_ns = 200;
+  s.gyro.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(e.addImu(s), std::invalid_argument);
+  FrameFeatures f;
+  f.t_ns = 50;  // before the first IMU sample: ignored
+  EXPECT_FALSE(e.addFrame(f).has_value());
+  options.window_size = 2;
+  EXPECT_THROW(SlidingWindowEstimator(options, 460.0, Eigen::Isometry3d::Identity(), imu),
+               std::invalid_argument);
+  EXPECT_THROW(SlidingWindowEstimator(EstimatorOptions{}, 0.0, Eigen::Isometry3d::Identity(), imu),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace adugs::vio

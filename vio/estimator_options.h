@@ -1,0 +1,42 @@
+#pragma once
+// Options of the sliding-window estimator (SlidingWindowEstimator), defaults in code (tuned on
+// the simulator and EuRoC), overridable from the `estimator:` map of a run config.
+#include <string>
+
+#include "vio/static_initializer.h"
+#include "vio/visual_inertial_initializer.h"
+
+namespace adugs::data {
+class YamlOptionsReader;
+}
+
+namespace adugs::vio {
+
+struct EstimatorOptions {
+  int window_size = 10;              // frames kept (keyframes + the newest)
+  double keyframe_parallax_px = 10;  // mean parallax (at focal_px) that makes a keyframe
+  int keyframe_min_tracked = 30;     // fewer common features also makes a keyframe
+  double pixel_sigma = 1.5;          // reprojection standard deviation [px]
+  double huber_px = 1.0;             // robust loss threshold, in sigmas
+  int max_iterations = 8;
+  double max_solver_time_s = 0.2;  // a guard only: results should not depend on machine load
+  double min_depth_m = 0.1, max_depth_m = 80.0;
+  double min_triangulation_angle_deg = 1.0;  // rays of a new landmark must meet at least this
+  // Zero-velocity updates while stationary (see zero_velocity_factor.h).
+  bool zero_velocity_updates = true;
+  double zero_velocity_sigma = 0.01;  // m/s
+  double stationary_parallax_px = 1.0;
+  // Failure detection: a reset and re-initialisation instead of a diverged state.
+  double max_accel_bias = 2.5;     // m/s^2
+  double max_gyro_bias = 1.0;      // rad/s
+  double max_speed = 30.0;         // m/s
+  double max_position_jump = 5.0;  // m between the IMU prediction and the solved newest frame
+  int min_tracked_features = 10;   // a frame with fewer features resets a moving estimator
+  StaticInitOptions static_init;
+  InitOptions init;
+};
+
+// Reads the keys above (static_init:/init: as child maps); call finish() after.
+void readEstimatorOptions(data::YamlOptionsReader& reader, EstimatorOptions* options);
+
+}  // namespace adugs::vio

@@ -1,0 +1,128 @@
+#pragma once
+// The monocular visual-inertial estimator of DESIGN.md (VINS-Mono's back-end): a sliding window
+// of frames with IMU preintegration between consecutive ones, landmarks as inverse depths in
+// their host frame, a Ceres bundle adjustment over reprojection (robust), IMU and marginalisation
+// prior factors, and marginalisation of the oldest frame (when the second-newest is a keyframe by
+// parallax) or dropping of the second-newest (when it adds nothing).
+//
+// Per frame: preintegrate the IMU since the previous frame, predict the new state, add the
+// features. Not initialised: try the static initialiser (quiet IMU, no image motion), then the
+// visual-inertial one on a full window. Initialised: triangulate new landmarks, solve, check for
+// failure (non-finite, huge bias/speed, jump, too few features) -> reset, else slide the window.
+//
+// Body = IMU frame, T_W_B, gravity (0, 0, -9.81) in W; time t_imu = t_cam (no offset estimated).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "data/types.h"
+#include "vio/estimator_options.h"
+#include "vio/feature_tracker.h"
+#include "vio/imu_preintegration.h"
+#include "vio/landmark_map.h"
+#include "vio/marginalization.h"
+
+namespace adugs::vio {
+
+struct EstimatorState {
+  int64_t t_ns = 0;
+  Eigen::Vector3d p_W_B = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_W_B = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
+  bool stationary = false;
+};
+
+struct EstimatorStats {
+  int frames = 0;
+  int keyframes = 0;  // frames that left the window by marginalisation (oldest)
+  int resets = 0;
+  int64_t init_t_ns = -1;    // time of the (first) initialisation
+  std::string init_kind;     // "static" or "visual-inertial"
+  std::string last_failure;  // why the last reset happened
+  std::string last_init_failure;
+  int landmarks_in_last_solve = 0;
+  std::vector<double> solve_ms, marginalization_ms;  // per solved frame
+};
+
+class SlidingWindowEstimator {
+ public:
+  // T_B_C: camera -> body. focal_px converts pixel thresholds to normalised units.
+  SlidingWindowEstimator(const EstimatorOptions& options, double focal_px,
+                         const Eigen::Isometry3d& T_B_C,
+                         const ImuPreintegrationOptions& imu_options);
+
+  // Samples must come in increasing time; a non-increasing or non-finite one throws
+  // std::invalid_argument (the reader already rejects them with file/line).
+  void addImu(const data::ImuSample& sample);
+  // The frame's features (tracker output). Returns the state at the frame once initialised; never
+  // a non-finite state. Frames before the first IMU sample are ignored (nullopt).
+  std::optional<EstimatorState> addFrame(const FrameFeatures& features);
+
+  // Gyro-integrated rotation of the body since the last frame, R_Bprev_Bnow (for the tracker's
+  // KLT prediction); identity before the first frame.
+  Eigen::Quaterniond rotationSinceLastFrame(int64_t t_ns) const;
+
+  bool initialized() const { return initialized_; }
+  const EstimatorStats& stats() const { return stats_; }
+  int windowFrames() const { return static_cast<int>(frames_.size()); }
+
+ private:
+  struct Frame {
+    int64_t t_ns = 0;
+    double pose[7];                          // p, q (x y z w)
+    double speed_bias[9];                    // v, ba, bg
+    std::shared_ptr<ImuPreintegration> imu;  // from the previous window frame (null for the first)
+    FrameFeatures features;                  // kept for the visual-inertial initialisation
+    bool stationary = false;
+    Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
+    Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
+    Eigen::Vector3d v() const {
+      return Eigen::Vector3d(speed_bias[0], speed_bias[1], speed_bias[2]);
+    }
+    Eigen::Vector3d ba() const {
+      return Eigen::Vector3d(speed_bias[3], speed_bias[4], speed_bias[5]);
+    }
+    Eigen::Vector3d bg() const {
+      return Eigen::Vector3d(speed_bias[6], speed_bias[7], speed_bias[8]);
+    }
+  };
+
+  std::shared_ptr<ImuPreintegration> preintegrate(int64_t from_ns, int64_t to_ns,
+                                                  const Eigen::Vector3d& ba,
+                                                  const Eigen::Vector3d& bg) const;
+  data::ImuSample imuAt(int64_t t_ns) const;
+  bool isStationary() const;
+  bool tryInitialize();
+  void solve();
+  void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);
+  bool failureDetected(const Eigen::Vector3d& predicted_p, std::string* why) const;
+  void reset(const std::string& why);
+  bool secondNewestIsKeyframe() const;
+  void slideWindow();
+  void marginalizeOldest();
+  void dropSecondNewest();
+  std::vector<Eigen::Isometry3d> cameraPoses() const;
+  EstimatorState stateOf(const Frame& f) const;
+  void dropOldestUninitialized();
+
+  EstimatorOptions options_;
+  double focal_px_;
+  double T_B_C_[7];
+  Eigen::Isometry3d T_B_C_iso_;
+  ImuPreintegrationOptions imu_options_;
+  std::deque<data::ImuSample> imu_;  // recent samples (kept back to the oldest window frame)
+  std::deque<std::unique_ptr<Frame>> frames_;
+  LandmarkMap landmarks_;
+  std::shared_ptr<const MarginalizationPrior> prior_;
+  bool initialized_ = false;
+  EstimatorStats stats_;
+};
+
+}  // namespace adugs::vio
