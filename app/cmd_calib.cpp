@@ -1,4 +1,4 @@
-// `adugs calib ...`: AprilGrid targets (print), detection, camera intrinsics, IMU noise.
+// `adugs calib ...`: AprilGrid targets, detection, intrinsics, camera-IMU, IMU noise.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +15,9 @@
 #include "calib/aprilgrid_render.h"
 #include "calib/aprilgrid_target_yaml.h"
 #include "calib/calibration_report.h"
+#include "calib/camera_imu_calibrator.h"
+#include "calib/camera_imu_input.h"
+#include "calib/camera_imu_report.h"
 #include "calib/chessboard.h"
 #include "calib/corner_csv.h"
 #include "calib/image_source.h"
@@ -335,10 +338,126 @@ void runImu(const ImuArgs& a) {
   std::cout << report << "Wrote " << (out / "imu.yaml").string() << ", report.txt, allan.png\n";
 }
 
+
+// ------------------------------------------------------------ camera-imu
+struct CameraImuArgs {
+  std::string corners;
+  std::string images;
+  std::string target;
+  std::string imu;
+  std::string config;
+  std::string camchain;
+  std::string imu_yaml;
+  std::string reference;
+  std::string out = "camera_imu_out";
+  std::string time_offset = "on";
+  double knot_rate = 20;
+  int every = 1;
+  int threads = 2;
+  bool verbose = false;
+};
+
+void runCameraImu(const CameraImuArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (a.corners.empty() == a.images.empty())
+    throw data::InputError(kCli, 0, "--corners", "give exactly one of --corners and --images");
+  if (a.config.empty() == a.camchain.empty())
+    throw data::InputError(kCli, 0, "--config", "give exactly one of --config and --camchain");
+  if (a.time_offset != "on" && a.time_offset != "off")
+    throw data::InputError(kCli, 0, "--estimate-time-offset", "must be on or off");
+  if (!(a.knot_rate >= 1 && a.knot_rate <= 200))
+    throw data::InputError(kCli, 0, "--knot-rate", "must be 1..200 Hz");
+  if (a.every < 1) throw data::InputError(kCli, 0, "--every", "must be >= 1");
+
+  // Intrinsics and IMU noise.
+  calib::CameraImuSensors sensors;
+  std::string intrinsics_input;
+  if (!a.config.empty()) {
+    sensors = calib::readYacCalibConfig(a.config);
+    if (!sensors.has_camera) throw data::InputError(a.config, 0, "cam0", "missing");
+    intrinsics_input = a.config;
+  } else {
+    sensors.camera = calib::readKalibrCamchain(a.camchain);
+    sensors.has_camera = true;
+    intrinsics_input = a.camchain;
+  }
+  std::string sensors_source = intrinsics_input;
+  if (!a.imu_yaml.empty()) {
+    sensors_source = a.imu_yaml;
+    sensors.imu = calib::readKalibrImuYaml(a.imu_yaml);
+    sensors.has_imu = true;
+  }
+  if (!sensors.has_imu)
+    throw data::InputError(a.config.empty() ? a.camchain : a.config, 0, "imu0",
+                           "no IMU noise figures: give --imu-yaml (Kalibr imu.yaml) or a config "
+                           "with imu0");
+
+  // Detections.
+  std::vector<calib::TargetObservation> views;
+  calib::AprilGrid grid;
+  if (!a.corners.empty()) {
+    if (!fs::exists(a.corners)) throw data::InputError(a.corners, 0, "--corners", "no such file or folder");
+    views = calib::readCornerCsvs(a.corners, nullptr, &grid);
+  } else {
+    if (a.target.empty()) throw data::InputError(kCli, 0, "--target", "needed with --images");
+    grid = calib::readAprilGridYaml(a.target);
+    views = detectAll(grid, a.images, 1, calib::DetectorOptions{}, true).views;
+  }
+  if (!fs::exists(a.imu)) throw data::InputError(a.imu, 0, "--imu", "no such file");
+  const calib::ImuRecording imu = calib::readImuCsv(a.imu);
+  const double read_seconds = secondsSince(t0);
+
+  calib::CameraImuOptions o;
+  o.estimate_time_offset = a.time_offset == "on";
+  o.knot_rate_hz = a.knot_rate;
+  o.frame_step = a.every;
+  o.threads = a.threads;
+  o.verbose = a.verbose;
+  o.gravity = sensors.gravity;
+  const calib::CameraImuResult r = calib::calibrateCameraImu(
+      views, sensors.camera, imu, sensors.imu, o,
+      {a.corners.empty() ? a.images : a.corners, a.imu, intrinsics_input});
+
+  calib::CameraImuReportContext ctx;
+  ctx.corners_input = a.corners.empty() ? a.images : a.corners;
+  ctx.imu_input = a.imu;
+  ctx.intrinsics_input = intrinsics_input;
+  if (!a.reference.empty()) {
+    ctx.has_reference = true;
+    ctx.reference_name = a.reference;
+    ctx.reference_T_I_C = calib::readEurocCameraToImu(a.reference);
+  }
+  makeDir(a.out);
+  const fs::path out(a.out);
+  data::writeTextFileAtomically((out / "camchain-imucam.yaml").string(),
+                                calib::formatCamchainImuCamYaml(sensors.camera, r));
+  // formatImuYaml's header says the figures come from Allan deviation; here they are an input.
+  std::string imu_yaml = calib::formatImuYaml(sensors.imu);
+  imu_yaml = "# IMU noise figures used by adugs calib camera-imu (from " + sensors_source +
+             "); continuous-time densities.\n" + imu_yaml.substr(imu_yaml.find('\n') + 1);
+  data::writeTextFileAtomically((out / "imu.yaml").string(), imu_yaml);
+  std::string report = calib::formatCameraImuReport(r, o, ctx);
+  report += strprintf("\nTotal time (reading %.2f s + calibration %.2f s): %.2f s\n", read_seconds,
+                      r.seconds, secondsSince(t0));
+  data::writeTextFileAtomically((out / "report.txt").string(), report);
+  const double rate = sensors.imu.update_rate_hz;
+  writePng((out / "gyro_residuals.png").string(),
+           calib::renderImuResidualPlot(r.gyro_residuals, "Gyroscope residuals (spline - measured)",
+                                        "rad/s", sensors.imu.gyro_noise_density * std::sqrt(rate)));
+  writePng((out / "accel_residuals.png").string(),
+           calib::renderImuResidualPlot(r.accel_residuals, "Accelerometer residuals (spline - measured)",
+                                        "m/s^2", sensors.imu.accel_noise_density * std::sqrt(rate)));
+  writePng((out / "reprojection_histogram.png").string(),
+           calib::renderReprojectionHistogram(r.corner_errors_px));
+  std::cout << report << "Wrote " << (out / "camchain-imucam.yaml").string()
+            << ", imu.yaml, report.txt, gyro_residuals.png, accel_residuals.png, "
+               "reprojection_histogram.png\n";
+}
+
 }  // namespace
 
 void registerCalibCommand(CLI::App& root) {
-  CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, IMU noise");
+  CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, camera-IMU, IMU noise");
   calib->require_subcommand(1);
 
   auto t = std::make_shared<TargetArgs>();
@@ -386,6 +505,24 @@ void registerCalibCommand(CLI::App& root) {
   imu->add_option("--rate", im->rate_hz, "Rate written to imu.yaml [Hz] (default: from timestamps)");
   imu->add_option("--points", im->points, "Cluster times on the log-spaced axis")->capture_default_str();
   imu->callback([im] { runImu(*im); });
+
+  auto ci = std::make_shared<CameraImuArgs>();
+  CLI::App* cimu = calib->add_subcommand("camera-imu", "Camera-IMU extrinsics T_cam_imu, time offset, gravity and IMU biases (continuous-time B-spline, Kalibr-compatible outputs)");
+  cimu->add_option("--corners", ci->corners, "Folder of AprilGrid corner CSVs (yac/EuRoC format), one per image");
+  cimu->add_option("--images", ci->images, "EuRoC cam folder or image folder instead of --corners (runs the detector; needs --target)");
+  cimu->add_option("--target", ci->target, "Target YAML (with --images)");
+  cimu->add_option("--imu", ci->imu, "IMU CSV: #timestamp [ns],wx,wy,wz,ax,ay,az (EuRoC imu0/data.csv)")->required();
+  cimu->add_option("--config", ci->config, "yac/EuRoC calibration config.yaml (cam0 intrinsics + imu0 noise)");
+  cimu->add_option("--camchain", ci->camchain, "Kalibr camchain.yaml with the cam0 intrinsics (then give --imu-yaml)");
+  cimu->add_option("--imu-yaml", ci->imu_yaml, "Kalibr imu.yaml with the IMU noise figures");
+  cimu->add_option("--reference", ci->reference, "EuRoC cam0/sensor.yaml whose T_BS the result is compared with");
+  cimu->add_option("--out", ci->out, "Output folder")->capture_default_str();
+  cimu->add_option("--estimate-time-offset", ci->time_offset, "on | off")->capture_default_str();
+  cimu->add_option("--knot-rate", ci->knot_rate, "B-spline knots per second")->capture_default_str();
+  cimu->add_option("--every", ci->every, "Use one frame in N")->capture_default_str();
+  cimu->add_option("--threads", ci->threads, "Threads")->capture_default_str();
+  cimu->add_flag("--verbose", ci->verbose, "Print the solver progress");
+  cimu->callback([ci] { runCameraImu(*ci); });
 }
 
 }  // namespace adugs::app
