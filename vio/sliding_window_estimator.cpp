@@ -156,6 +156,8 @@ bool SlidingWindowEstimator::tryInitialize() {
     return true;
   }
   if (static_cast<int>(frames_.size()) < options_.init.min_frames) return false;
+  if (data::nsToSec(frames_.back()->t_ns - frames_.front()->t_ns) < options_.init_min_span_s)
+    return false;
   std::vector<InitFrame> init_frames;
   for (const auto& f : frames_) {
     InitFrame i;
@@ -181,6 +183,20 @@ bool SlidingWindowEstimator::tryInitialize() {
   for (const auto& [id, p_W] : r.landmarks_W) landmarks_.setWorldPoint(id, p_W, T_W_C);
   stats_.init_kind = "visual-inertial";
   return true;
+}
+
+void SlidingWindowEstimator::thinWindow() {
+  // Drop the inner frame whose neighbours are closest in time.
+  int best = 1;
+  int64_t best_gap = INT64_MAX;
+  for (int k = 1; k + 1 < static_cast<int>(frames_.size()) - 1; ++k) {
+    const int64_t gap = frames_[k + 1]->t_ns - frames_[k - 1]->t_ns;
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = k;
+    }
+  }
+  dropFrame(best);
 }
 
 void SlidingWindowEstimator::dropOldestUninitialized() {
@@ -227,7 +243,10 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
       // Same window policy as when running (so the window spans enough parallax for the SfM),
       // without marginalisation: nothing is estimated yet.
       if (static_cast<int>(frames_.size()) > options_.window_size) {
-        if (secondNewestIsKeyframe())
+        const double span_s = data::nsToSec(frames_.back()->t_ns - frames_.front()->t_ns);
+        if (span_s < options_.init_min_span_s)
+          thinWindow();  // scale needs acceleration, acceleration needs time: spread the frames
+        else if (secondNewestIsKeyframe())
           dropOldestUninitialized();
         else
           dropSecondNewest();
@@ -455,10 +474,11 @@ void SlidingWindowEstimator::marginalizeOldest() {
   ++stats_.keyframes;
 }
 
-void SlidingWindowEstimator::dropSecondNewest() {
-  const int idx = static_cast<int>(frames_.size()) - 2;
+void SlidingWindowEstimator::dropSecondNewest() { dropFrame(static_cast<int>(frames_.size()) - 2); }
+
+void SlidingWindowEstimator::dropFrame(int idx) {
   Frame& second = *frames_[idx];
-  Frame& newest = *frames_.back();
+  Frame& newest = *frames_[idx + 1];
   if (prior_ &&
       (contains(prior_->blocks, second.pose) || contains(prior_->blocks, second.speed_bias))) {
     Marginalizer m;

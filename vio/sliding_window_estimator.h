@@ -108,6 +108,8 @@ class SlidingWindowEstimator {
   void slideWindow();
   void marginalizeOldest();
   void dropSecondNewest();
+  void dropFrame(int index);  // merges its IMU into the next frame's preintegration
+  void thinWindow();
   std::vector<Eigen::Isometry3d> cameraPoses() const;
   EstimatorState stateOf(const Frame& f) const;
   void dropOldestUninitialized();

