@@ -1,6 +1,6 @@
 #include "vio/landmark_map.h"
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -87,14 +87,17 @@ bool triangulatePoint(const std::vector<Eigen::Vector2d>& points,
   const int n = static_cast<int>(points.size());
   if (n < 2) return false;
   // Each observation x = P X / (P X)_z gives two rows: x * P_3 - P_1, y * P_3 - P_2 (P = T_C_W).
-  Eigen::MatrixXd A(2 * n, 4);
+  // X is the null vector of A: the eigenvector of the 4x4 A^T A with the smallest eigenvalue
+  // (far cheaper than an SVD of A, and this runs for every depthless landmark every frame).
+  Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
   for (int k = 0; k < n; ++k) {
     const Eigen::Matrix<double, 3, 4> P = T_W_C[k].inverse().matrix().topRows<3>();
-    A.row(2 * k) = points[k].x() * P.row(2) - P.row(0);
-    A.row(2 * k + 1) = points[k].y() * P.row(2) - P.row(1);
+    const Eigen::RowVector4d r1 = points[k].x() * P.row(2) - P.row(0);
+    const Eigen::RowVector4d r2 = points[k].y() * P.row(2) - P.row(1);
+    AtA += r1.transpose() * r1 + r2.transpose() * r2;
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-  const Eigen::Vector4d X = svd.matrixV().col(3);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(AtA);
+  const Eigen::Vector4d X = eig.eigenvectors().col(0);
   if (std::abs(X(3)) < 1e-12) return false;
   *p_W = X.head<3>() / X(3);
   return p_W->allFinite();
