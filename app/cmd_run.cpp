@@ -32,6 +32,7 @@ struct RunArgs {
   std::string estimator = "vio";
   std::string config_path;
   std::string mask = "none";
+  std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string gt_path;  // overrides mav0/state_groundtruth_estimate0/data.csv
   bool skip_bad_frames = false;
   bool quiet = false;
@@ -95,6 +96,10 @@ void runSequence(const RunArgs& a) {
   v.gt_path = a.gt_path;
   v.config_path = a.config_path;
   v.mask = a.mask;
+  v.detector_model = a.detector_model;
+  v.segmenter = a.segmenter;
+  v.sam_encoder = a.sam_encoder;
+  v.sam_decoder = a.sam_decoder;
   v.skip_bad_frames = a.skip_bad_frames;
   v.quiet = a.quiet;
   runVio(v);
@@ -124,9 +129,17 @@ void registerRunCommand(CLI::App& root) {
                   "run config YAML (tracker:, estimator: maps; see data/config/)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--mask", args->mask,
-                  "dynamic mask per frame: none, or gt = the simulator's mav0/mask0 masks")
-      ->check(CLI::IsMember({"none", "gt"}))
+                  "dynamic mask per frame: none; gt = the simulator's mav0/mask0 masks; detector = "
+                  "YOLOX -> SORT -> box segmentation -> refinement")
+      ->check(CLI::IsMember({"none", "gt", "detector"}))
       ->capture_default_str();
+  cmd->add_option("--detector-model", args->detector_model, "--mask detector: YOLOX ONNX model")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
+      ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
+      ->capture_default_str();
+  cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: image encoder ONNX");
+  cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: prompt decoder ONNX");
   cmd->add_flag("--skip-bad-frames", args->skip_bad_frames,
                 "skip missing or corrupt images with a warning instead of stopping");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress on stderr");

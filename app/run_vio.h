@@ -7,7 +7,9 @@ namespace adugs::app {
 
 struct VioRunArgs {
   std::string path, out_dir, gt_path, config_path;
-  std::string mask = "none";  // none | gt (the simulator's mask0/ folder)
+  std::string mask = "none";  // none | gt (the simulator's mask0/ folder) | detector
+  // --mask detector: YOLOX ONNX model, box segmenter (grabcut | box | mobilesam + its two ONNX).
+  std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   bool skip_bad_frames = false;
   bool quiet = false;
 };

@@ -93,6 +93,29 @@ TEST_F(CmdRunVioSim, MaskOfTheWrongSizeIsAnErrorNamingTheFile) {
   EXPECT_NE(log.find("10x10"), std::string::npos) << log;
 }
 
+TEST_F(CmdRunVioSim, DetectorMasksRunTheWholeDynamicObjectStage) {
+  const auto model = sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
+  ADUGS_REQUIRE_SHARED(model);
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() +
+                         " --mask detector --segmenter box --detector-model " + model.string() +
+                         " --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const std::string summary = readFile(out / "summary.yaml");
+  EXPECT_NE(summary.find("mask: detector"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("dynamic_mask_median:"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("masked_image_fraction:"), std::string::npos) << summary;
+  // Without a model the detector mask is refused with a message naming the option.
+  EXPECT_NE(
+      runAdugs("run -q " + dir_->path().string() + " --mask detector --out " + out.path().string(),
+               &log),
+      0);
+  EXPECT_NE(log.find("detector-model"), std::string::npos) << log;
+}
+
 TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
   TempDir out;
   writeText(out / "bad.yaml", "estimator:\n  window_size: 2\n");
