@@ -2,22 +2,19 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <numeric>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
+#include <thread>
 
 #include "app/run_config.h"
 #include "app/run_report.h"
+#include "app/vio_frontend_stage.h"
 #include "data/euroc_reader.h"
-#include "data/input_error.h"
 #include "data/trajectory_io.h"
-#include "tracking/dynamic_masker.h"
-#include "tracking/segmenter_factory.h"
-#include "tracking/yolox_detector.h"
 #include "vio/camera_model.h"
-#include "vio/feature_tracker.h"
 #include "vio/sliding_window_estimator.h"
 
 namespace adugs::app {
@@ -33,19 +30,13 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
 }
 
-// The simulator's ground-truth mask of a frame: mav0/mask0/data/<image file name>.
-cv::Mat loadGroundTruthMask(const std::string& mav_dir, const data::Frame& frame) {
-  const std::string path =
-      (fs::path(mav_dir) / "mask0" / "data" / fs::path(frame.path).filename()).string();
-  cv::Mat mask = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (mask.empty())
-    throw data::InputError(path, 0, "mask", "missing or unreadable dynamic mask (--mask gt)");
-  if (mask.size() != frame.image.size())
-    throw data::InputError(
-        path, 0, "mask",
-        "mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) + ", the image " +
-            std::to_string(frame.image.cols) + "x" + std::to_string(frame.image.rows));
-  return mask;
+vio::ImuPreintegrationOptions imuOptions(const data::ImuNoise& noise) {
+  vio::ImuPreintegrationOptions o;
+  o.gyro_noise_density = noise.gyro_noise_density;
+  o.accel_noise_density = noise.accel_noise_density;
+  o.gyro_random_walk = noise.gyro_random_walk;
+  o.accel_random_walk = noise.accel_random_walk;
+  return o;
 }
 
 }  // namespace
@@ -58,96 +49,89 @@ void runVio(const VioRunArgs& a) {
   const std::string gt_path = a.gt_path.empty() ? reader.groundTruthPath() : a.gt_path;
 
   const vio::CameraModel camera(reader.camera());
-  vio::FeatureTracker tracker(config.tracker, camera);
-  vio::ImuPreintegrationOptions imu_options;
-  const data::ImuNoise& noise = reader.imuNoise();
-  imu_options.gyro_noise_density = noise.gyro_noise_density;
-  imu_options.accel_noise_density = noise.accel_noise_density;
-  imu_options.gyro_random_walk = noise.gyro_random_walk;
-  imu_options.accel_random_walk = noise.accel_random_walk;
+  FrontEndStage front_end(reader, config.tracker, camera,
+                          {a.mask, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder});
   const double focal = 0.5 * (camera.fx() + camera.fy());
   vio::SlidingWindowEstimator estimator(config.estimator, focal, reader.camera().T_B_C,
-                                        imu_options);
-  const Eigen::Matrix3d R_B_C = reader.camera().T_B_C.rotation();
-
-  // The dynamic-object stage of the paper: detector -> SORT -> box segmentation -> refinement.
-  std::unique_ptr<tracking::YoloxDetector> detector;
-  std::unique_ptr<tracking::DynamicMasker> masker;
-  if (a.mask == "detector") {
-    if (a.detector_model.empty())
-      throw data::InputError("--detector-model", 0, "detector_model",
-                             "--mask detector needs a YOLOX ONNX model");
-    detector = std::make_unique<tracking::YoloxDetector>(a.detector_model);
-    masker = std::make_unique<tracking::DynamicMasker>(
-        tracking::DynamicMaskerOptions{},
-        tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder));
-  }
+                                        imuOptions(reader.imuNoise()));
 
   fs::create_directories(a.out_dir);
   const std::string traj_path = (fs::path(a.out_dir) / "trajectory.tum").string();
   data::TumTrajectoryWriter writer(traj_path);
 
+  // Two threads: the front-end (decoding, masks, KLT) runs one frame ahead of the estimator,
+  // which works here on the calling thread.
+  Channel<TrackedFrame> frames(2);
+  Channel<Eigen::Vector3d> gyro_biases;
+  std::exception_ptr front_end_error;
+  std::thread front_end_thread([&] {
+    try {
+      front_end.run(frames, gyro_biases);
+    } catch (...) {
+      front_end_error = std::current_exception();
+      frames.close();
+    }
+  });
+  auto stop_front_end = [&] {
+    frames.close();
+    gyro_biases.close();
+    front_end_thread.join();
+  };
+
   RunStats stats;
   std::vector<double> frontend_ms, backend_ms, mask_ms, dynamic_drop, masked_fraction;
   const auto wall_start = std::chrono::steady_clock::now();
-  data::Measurement m;
-  int64_t first_t = -1;
-  while (reader.next(m)) {
-    if (first_t < 0) first_t = m.timeNs();
-    if (m.isImu()) {
-      ++stats.imu_samples;
-      estimator.addImu(m.imu);
-      continue;
+  TrackedFrame f;
+  try {
+    while (frames.pop(&f)) {
+      ++stats.frames;
+      stats.sequence_s = f.sequence_s;
+      frontend_ms.push_back(f.frontend_ms);
+      dynamic_drop.push_back(f.dropped_dynamic);
+      if (f.mask_ms >= 0) {
+        mask_ms.push_back(f.mask_ms);
+        masked_fraction.push_back(f.masked_fraction);
+      }
+      for (const data::ImuSample& s : f.imu) estimator.addImu(s);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto state = estimator.addFrame(f.features);
+      backend_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      gyro_biases.push(estimator.gyroBias());
+      if (state) {
+        data::StampedPose p;
+        p.t_ns = state->t_ns;
+        p.p_W_B = state->p_W_B;
+        p.q_W_B = state->q_W_B;
+        writer.write(p);
+        ++stats.poses;
+      }
+      if (!a.quiet && stats.frames % 100 == 0)
+        std::cerr << "run: " << stats.frames << " frames, " << stats.sequence_s << " s, "
+                  << (estimator.initialized() ? "tracking" : "initialising") << ", resets "
+                  << estimator.stats().resets << "\n"
+                  << std::flush;
     }
-    ++stats.frames;
-    stats.sequence_s = data::nsToSec(m.frame.t_ns - first_t);
-    cv::Mat mask;
-    if (a.mask == "gt") mask = loadGroundTruthMask(reader.mavDir(), m.frame);
-    if (masker) {
-      const auto t_mask = std::chrono::steady_clock::now();
-      const tracking::DynamicMaskResult r =
-          masker->process(m.frame.image, detector->detect(m.frame.image));
-      mask_ms.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_mask)
-              .count());
-      masked_fraction.push_back(r.masked_fraction);
-      mask = r.mask;
-    }
-    const Eigen::Matrix3d R_B = estimator.rotationSinceLastFrame(m.frame.t_ns).toRotationMatrix();
-    tracker.setPredictedRotation(R_B_C.transpose() * R_B * R_B_C);
-    auto t0 = std::chrono::steady_clock::now();
-    const vio::FrameFeatures features = tracker.trackFrame(m.frame.t_ns, m.frame.image, mask);
-    frontend_ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    dynamic_drop.push_back(tracker.lastStats().dropped_dynamic);
-    t0 = std::chrono::steady_clock::now();
-    const auto state = estimator.addFrame(features);
-    backend_ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    if (state) {
-      data::StampedPose p;
-      p.t_ns = state->t_ns;
-      p.p_W_B = state->p_W_B;
-      p.q_W_B = state->q_W_B;
-      writer.write(p);
-      ++stats.poses;
-    }
-    if (!a.quiet && stats.frames % 100 == 0)
-      std::cerr << "run: " << stats.frames << " frames, " << stats.sequence_s << " s, "
-                << (estimator.initialized() ? "tracking" : "initialising") << ", resets "
-                << estimator.stats().resets << "\n"
-                << std::flush;
+  } catch (...) {
+    stop_front_end();
+    throw;
   }
+  stop_front_end();
+  if (front_end_error) std::rethrow_exception(front_end_error);
   writer.close();
+  stats.imu_samples = front_end.imuSamples();
   stats.skipped_frames = reader.skippedFrames();
   stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
   const vio::EstimatorStats& es = estimator.stats();
+  const int64_t first_t = front_end.firstTimeNs();
   std::ostringstream extra;
   extra << "mask: " << a.mask << "\n"
+        << "threads: 2 (front-end, estimator)\n"
         << "keyframes: " << es.keyframes << "\n"
         << "resets: " << es.resets << "\n"
+        << "frames_without_imu: " << es.frames_without_imu << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
         << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - first_t) : -1.0)
         << "\n";
@@ -160,7 +144,9 @@ void runVio(const VioRunArgs& a) {
         << "  backend_median: " << median(backend_ms) << "\n"
         << "  backend_mean: " << mean(backend_ms) << "\n"
         << "  solve_median: " << median(es.solve_ms) << "\n"
+        << "  solve_mean: " << mean(es.solve_ms) << "\n"
         << "  marginalization_median: " << median(es.marginalization_ms) << "\n"
+        << "  marginalization_mean: " << mean(es.marginalization_ms) << "\n"
         << "  dynamic_mask_median: " << median(mask_ms) << "\n"
         << "dynamic_features_dropped_per_frame: " << mean(dynamic_drop) << "\n"
         << "masked_image_fraction: " << mean(masked_fraction) << "\n";

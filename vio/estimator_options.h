@@ -32,6 +32,10 @@ struct EstimatorOptions {
   double max_speed = 30.0;         // m/s
   double max_position_jump = 5.0;  // m between the IMU prediction and the solved newest frame
   int min_tracked_features = 10;   // a frame with fewer features resets a moving estimator
+  // IMU gaps: a frame whose interval since the previous frame has two IMU samples further apart
+  // than this (or no sample within this of the frame) breaks the IMU chain: the estimator resets
+  // and re-initialises; frames with no IMU near them are skipped (no pose).
+  double max_imu_gap_s = 0.05;
   // The visual-inertial initialisation waits until the window spans this long: scale comes from
   // accelerations, and half a second of near-constant velocity (every frame a keyframe at
   // speed) underestimated it by 2x on the simulator.

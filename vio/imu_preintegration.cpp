@@ -112,7 +112,12 @@ void ImuPreintegration::step(const data::ImuSample& a, const data::ImuSample& b)
 }
 
 Matrix15d ImuPreintegration::sqrtInformation() const {
-  const Matrix15d information = covariance_.inverse();
+  // One integration step (an IMU hole ending at the frame) drives delta p and delta v by the same
+  // noise and leaves the covariance singular; a relative 1e-6 diagonal jitter keeps it invertible
+  // and leaves regular intervals unchanged to that precision.
+  Matrix15d covariance = covariance_;
+  covariance.diagonal() *= 1.0 + 1e-6;
+  const Matrix15d information = covariance.inverse();
   const Eigen::LLT<Matrix15d> llt(0.5 * (information + information.transpose()));
   if (llt.info() != Eigen::Success)
     throw std::runtime_error("ImuPreintegration: covariance is not positive definite");

@@ -93,6 +93,21 @@ Eigen::Quaterniond SlidingWindowEstimator::rotationSinceLastFrame(int64_t t_ns) 
   return preintegrate(last.t_ns, t_ns, last.ba(), last.bg())->deltaQ();
 }
 
+int64_t SlidingWindowEstimator::longestImuGap(int64_t from_ns, int64_t to_ns) const {
+  auto it = std::upper_bound(imu_.begin(), imu_.end(), from_ns,
+                             [](int64_t t, const data::ImuSample& s) { return t < s.t_ns; });
+  int64_t previous = it == imu_.begin() ? from_ns : std::prev(it)->t_ns, longest = 0;
+  for (; it != imu_.end() && previous < to_ns; ++it) {
+    longest = std::max(longest, std::min(it->t_ns, to_ns) - previous);
+    previous = it->t_ns;
+  }
+  return std::max(longest, to_ns - previous);
+}
+
+Eigen::Vector3d SlidingWindowEstimator::gyroBias() const {
+  return frames_.empty() ? Eigen::Vector3d::Zero() : frames_.back()->bg();
+}
+
 std::vector<Eigen::Isometry3d> SlidingWindowEstimator::cameraPoses() const {
   std::vector<Eigen::Isometry3d> T_W_C;
   for (const auto& f : frames_) {
@@ -212,6 +227,22 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   if (imu_.empty() || features.t_ns < imu_.front().t_ns) return std::nullopt;
   if (!frames_.empty() && features.t_ns <= frames_.back()->t_ns)
     throw std::invalid_argument("SlidingWindowEstimator: frame times must increase");
+  const int64_t max_gap = data::secToNs(options_.max_imu_gap_s);
+  if (features.t_ns - imu_.back().t_ns > max_gap) {  // the IMU stream stopped before this frame
+    ++stats_.frames_without_imu;
+    if (!frames_.empty())
+      reset("no IMU sample within " + std::to_string(options_.max_imu_gap_s) + " s of frame " +
+            std::to_string(features.t_ns));
+    return std::nullopt;
+  }
+  if (!frames_.empty()) {
+    const int64_t gap = longestImuGap(frames_.back()->t_ns, features.t_ns);
+    if (gap > max_gap) {
+      // Integrating across the hole would invent the motion: start again from this frame.
+      reset("IMU gap of " + std::to_string(data::nsToSec(gap)) + " s before frame " +
+            std::to_string(features.t_ns));
+    }
+  }
 
   auto frame = std::make_unique<Frame>();
   frame->t_ns = features.t_ns;

@@ -48,6 +48,7 @@ struct EstimatorStats {
   std::string last_failure;  // why the last reset happened
   std::string last_init_failure;
   int landmarks_in_last_solve = 0;
+  int frames_without_imu = 0;  // skipped: no IMU sample within max_imu_gap_s of the frame
   std::vector<double> solve_ms, marginalization_ms;  // per solved frame
 };
 
@@ -68,6 +69,9 @@ class SlidingWindowEstimator {
   // Gyro-integrated rotation of the body since the last frame, R_Bprev_Bnow (for the tracker's
   // KLT prediction); identity before the first frame.
   Eigen::Quaterniond rotationSinceLastFrame(int64_t t_ns) const;
+  // Gyro bias of the newest frame (zero before the first frame): what a front-end running on
+  // another thread integrates its own gyro prediction with.
+  Eigen::Vector3d gyroBias() const;
 
   bool initialized() const { return initialized_; }
   const EstimatorStats& stats() const { return stats_; }
@@ -99,6 +103,8 @@ class SlidingWindowEstimator {
                                                   const Eigen::Vector3d& bg) const;
   data::ImuSample imuAt(int64_t t_ns) const;
   bool isStationary() const;
+  // Longest spacing of the IMU samples covering [from_ns, to_ns], ends included.
+  int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
   void solve();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);

@@ -1,19 +1,18 @@
 // Marginalisation: exact on a linear problem, analytic prior-factor Jacobians, and a pose chain
 // whose reduced problem keeps the full problem's estimate.
-#include "vio/marginalization.h"
-
-#include <array>
-#include <memory>
-#include <random>
-#include <vector>
-
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
+#include <array>
+#include <memory>
+#include <random>
+#include <vector>
+
 #include "tests/vio/jacobian_check.h"
+#include "vio/marginalization.h"
 #include "vio/pose_manifold.h"
 #include "vio/so3.h"
 
@@ -23,7 +22,8 @@ namespace {
 // r = sum_k A_k x_k - b over Euclidean blocks.
 class LinearCost : public ceres::CostFunction {
  public:
-  LinearCost(std::vector<Eigen::MatrixXd> A, Eigen::VectorXd b) : A_(std::move(A)), b_(std::move(b)) {
+  LinearCost(std::vector<Eigen::MatrixXd> A, Eigen::VectorXd b)
+      : A_(std::move(A)), b_(std::move(b)) {
     set_num_residuals(static_cast<int>(b_.size()));
     for (const auto& a : A_) mutable_parameter_block_sizes()->push_back(static_cast<int>(a.cols()));
   }
@@ -110,7 +110,8 @@ TEST(Marginalization, LinearProblemReducedSolutionEqualsFullSolution) {
   for (int k = 0; k < 2; ++k) EXPECT_NEAR(x3[k], x3_full[k], 1e-9);
 }
 
-// Relative pose measurement T_i^-1 T_j = (dp, dq), residual [R_i^T (p_j - p_i) - dp, 2 vec(dq^-1 q_i^-1 q_j)] / sigma.
+// Relative pose measurement T_i^-1 T_j = (dp, dq), residual [R_i^T (p_j - p_i) - dp, 2 vec(dq^-1
+// q_i^-1 q_j)] / sigma.
 struct RelativePose {
   Eigen::Vector3d dp;
   Eigen::Quaterniond dq;
@@ -150,7 +151,8 @@ Pose pose(const Eigen::Vector3d& p, const Eigen::Vector3d& phi) {
   return x;
 }
 
-ceres::CostFunction* relative(const Eigen::Vector3d& dp, const Eigen::Vector3d& dphi, double inv_sigma) {
+ceres::CostFunction* relative(const Eigen::Vector3d& dp, const Eigen::Vector3d& dphi,
+                              double inv_sigma) {
   return new ceres::AutoDiffCostFunction<RelativePose, 6, 7, 7>(
       new RelativePose{dp, quaternionExp(dphi), inv_sigma});
 }
@@ -217,6 +219,74 @@ TEST(Marginalization, PoseChainKeepsEstimateAfterMarginalisingFirstPose) {
     EXPECT_NEAR(x1[k], x1_full[k], 1e-8) << k;
     EXPECT_NEAR(x2[k], x2_full[k], 1e-8) << k;
   }
+}
+
+// The estimator's structure: a pose-like block p and landmark-like scalars l1..l3 marginalised,
+// each landmark meeting p and a kept block, never another landmark. The landmarks go through
+// the cheap per-block elimination, p through the dense one; the prior must equal the Schur
+// complement computed densely here: J^T J = H*, J^T r = g*.
+TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto random = [&](int rows, int cols) {
+    Eigen::MatrixXd m(rows, cols);
+    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
+    return m;
+  };
+  std::array<double, 3> p{0.1, -0.2, 0.3}, k1{1.0, 0.5, -0.5};
+  std::array<double, 2> k2{0.2, 0.4};
+  std::array<std::array<double, 1>, 3> l{{{0.5}, {-0.7}, {1.2}}};
+  // Global layout of the reference: [p(3) l1 l2 l3 | k1(3) k2(2)].
+  const int n_marg = 6, n_all = 11;
+  std::vector<std::unique_ptr<LinearCost>> costs;
+  std::vector<std::vector<int>> offsets;  // per cost, per block: global offset
+  std::vector<std::vector<double*>> blocks;
+  auto add = [&](std::vector<double*> b, std::vector<int> off, std::vector<int> sizes, int rows) {
+    std::vector<Eigen::MatrixXd> A;
+    for (int s : sizes) A.push_back(random(rows, s));
+    costs.push_back(std::make_unique<LinearCost>(A, random(rows, 1)));
+    blocks.push_back(std::move(b));
+    offsets.push_back(std::move(off));
+  };
+  add({p.data()}, {0}, {3}, 3);  // p's own prior
+  for (int i = 0; i < 3; ++i)    // two observations per landmark
+    for (int obs = 0; obs < 2; ++obs)
+      add({p.data(), l[i].data(), k1.data()}, {0, 3 + i, 6}, {3, 1, 3}, 2);
+  add({p.data(), k2.data()}, {0, 9}, {3, 2}, 3);
+  add({k1.data(), k2.data()}, {6, 9}, {3, 2}, 4);  // kept only: ignored by the marginaliser
+
+  Marginalizer marginalizer;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_all, n_all);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(n_all);
+  for (size_t c = 0; c + 1 < costs.size(); ++c) {
+    marginalizer.addResidualBlock(costs[c].get(), nullptr, blocks[c]);
+    const auto& sizes = costs[c]->parameter_block_sizes();
+    const int rows = costs[c]->num_residuals();
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, n_all);
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jk;
+    std::vector<double*> ptrs;
+    for (int s : sizes) Jk.emplace_back(rows, s);
+    for (auto& m : Jk) ptrs.push_back(m.data());
+    Eigen::VectorXd r(rows);
+    costs[c]->Evaluate(blocks[c].data(), r.data(), ptrs.data());
+    for (size_t k = 0; k < sizes.size(); ++k) J.middleCols(offsets[c][k], sizes[k]) = Jk[k];
+    H += J.transpose() * J;
+    g += J.transpose() * r;
+  }
+  const Eigen::MatrixXd Hmm_inv = H.topLeftCorner(n_marg, n_marg).inverse();
+  const Eigen::MatrixXd Hkm = H.bottomLeftCorner(n_all - n_marg, n_marg);
+  const Eigen::MatrixXd H_star = H.bottomRightCorner(5, 5) - Hkm * Hmm_inv * Hkm.transpose();
+  const Eigen::VectorXd g_star = g.tail(5) - Hkm * Hmm_inv * g.head(n_marg);
+
+  const auto prior = marginalizer.marginalize({p.data(), l[0].data(), l[1].data(), l[2].data()});
+  ASSERT_EQ(prior->blocks.size(), 2u);
+  // The prior's kept order is first appearance: k1 (via a landmark residual), then k2.
+  EXPECT_EQ(prior->blocks[0], k1.data());
+  EXPECT_EQ(prior->blocks[1], k2.data());
+  const Eigen::MatrixXd JtJ = prior->J.transpose() * prior->J;
+  const Eigen::VectorXd Jtr = prior->J.transpose() * prior->r;
+  EXPECT_LT((JtJ - H_star).norm(), 1e-9 * H_star.norm()) << JtJ << "\n\n" << H_star;
+  EXPECT_LT((Jtr - g_star).norm(), 1e-9 * g_star.norm());
 }
 
 TEST(Marginalization, PriorFactorJacobiansMatchNumericAwayFromLinearisationPoint) {

@@ -25,9 +25,10 @@ struct PipelineRun {
 };
 
 // Plays an EuRoC folder through tracker + estimator. edit_image may change a frame's image
-// (by its index) before tracking.
+// (by its index) before tracking; IMU samples for which drop_imu returns true are withheld.
 PipelineRun runPipeline(const std::string& root,
-                        const std::function<void(int, cv::Mat&)>& edit_image = {}) {
+                        const std::function<void(int, cv::Mat&)>& edit_image = {},
+                        const std::function<bool(const data::ImuSample&)>& drop_imu = {}) {
   data::EurocReader reader(root);
   const CameraModel camera(reader.camera());
   FeatureTracker tracker(FeatureTrackerOptions{}, camera);
@@ -42,7 +43,7 @@ PipelineRun runPipeline(const std::string& root,
   int frame = 0;
   while (reader.next(m)) {
     if (m.isImu()) {
-      estimator.addImu(m.imu);
+      if (!drop_imu || !drop_imu(m.imu)) estimator.addImu(m.imu);
       continue;
     }
     if (edit_image) edit_image(frame, m.frame.image);
@@ -114,6 +115,31 @@ TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
     after += t > 4.0;
   }
   EXPECT_GT(after, 40);
+}
+
+// A 0.4 s hole in the IMU stream (3.0-3.4 s): integrating across it would invent the motion, so
+// the estimator resets at the first frame after the hole, emits no pose for frames inside it,
+// and re-initialises.
+TEST(SlidingWindowEstimator, ImuGapResetsAndReinitialises) {
+  test::TempDir tmp("adugs_swe_imugap");
+  const std::string root = makeSequence(tmp, "none", 7.0);
+  int64_t t0 = -1;
+  const PipelineRun run = runPipeline(root, {}, [&](const data::ImuSample& s) {
+    if (t0 < 0) t0 = s.t_ns;
+    const double t = data::nsToSec(s.t_ns - t0);
+    return t > 3.0 && t < 3.4;
+  });
+  ASSERT_TRUE(run.all_finite);
+  EXPECT_GE(run.stats.resets, 1);
+  EXPECT_GE(run.stats.frames_without_imu, 6);  // frames 3.10 .. 3.35 s (3.05 is within 50 ms)
+  int during = 0, after = 0;
+  for (const auto& p : run.trajectory) {
+    const double t = data::nsToSec(p.t_ns - t0);
+    during += t > 3.06 && t < 3.4;
+    after += t > 5.0;
+  }
+  EXPECT_EQ(during, 0);
+  EXPECT_GT(after, 30) << "re-initialised after the gap (" << run.stats.last_failure << ")";
 }
 
 TEST(SlidingWindowEstimator, RejectsBadInput) {

@@ -1,0 +1,105 @@
+#include "app/vio_frontend_stage.h"
+
+#include <chrono>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "data/input_error.h"
+#include "tracking/dynamic_masker.h"
+#include "tracking/segmenter_factory.h"
+#include "tracking/yolox_detector.h"
+
+namespace adugs::app {
+namespace {
+namespace fs = std::filesystem;
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The simulator's ground-truth mask of a frame: mav0/mask0/data/<image file name>.
+cv::Mat loadGroundTruthMask(const std::string& mav_dir, const data::Frame& frame) {
+  const std::string path =
+      (fs::path(mav_dir) / "mask0" / "data" / fs::path(frame.path).filename()).string();
+  cv::Mat mask = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (mask.empty())
+    throw data::InputError(path, 0, "mask", "missing or unreadable dynamic mask (--mask gt)");
+  if (mask.size() != frame.image.size())
+    throw data::InputError(
+        path, 0, "mask",
+        "mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) + ", the image " +
+            std::to_string(frame.image.cols) + "x" + std::to_string(frame.image.rows));
+  return mask;
+}
+
+}  // namespace
+
+FrontEndStage::FrontEndStage(data::EurocReader& reader,
+                             const vio::FeatureTrackerOptions& tracker_options,
+                             const vio::CameraModel& camera, const FrontEndStageOptions& options)
+    : reader_(reader),
+      tracker_(tracker_options, camera),
+      R_B_C_(reader.camera().T_B_C.rotation()),
+      options_(options) {
+  // The dynamic-object stage of the paper: detector -> SORT -> box segmentation -> refinement.
+  if (options_.mask == "detector") {
+    if (options_.detector_model.empty())
+      throw data::InputError("--detector-model", 0, "detector_model",
+                             "--mask detector needs a YOLOX ONNX model");
+    detector_ = std::make_unique<tracking::YoloxDetector>(options_.detector_model);
+    masker_ = std::make_unique<tracking::DynamicMasker>(
+        tracking::DynamicMaskerOptions{},
+        tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
+  }
+}
+
+FrontEndStage::~FrontEndStage() = default;
+
+cv::Mat FrontEndStage::makeMask(const data::Frame& frame, TrackedFrame* out) {
+  if (options_.mask == "gt") return loadGroundTruthMask(reader_.mavDir(), frame);
+  if (!masker_) return {};
+  const auto t0 = std::chrono::steady_clock::now();
+  const tracking::DynamicMaskResult r =
+      masker_->process(frame.image, detector_->detect(frame.image));
+  out->mask_ms = msSince(t0);
+  out->masked_fraction = r.masked_fraction;
+  return r.mask;
+}
+
+void FrontEndStage::run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>& gyro_biases) {
+  data::Measurement m;
+  int64_t previous_frame_t = -1;
+  int frame_index = 0;
+  TrackedFrame out;
+  while (reader_.next(m)) {
+    if (first_t_ < 0) first_t_ = m.timeNs();
+    if (m.isImu()) {
+      ++imu_samples_;
+      gyro_.addImu(m.imu);
+      out.imu.push_back(m.imu);
+      continue;
+    }
+    out.sequence_s = data::nsToSec(m.frame.t_ns - first_t_);
+    const cv::Mat mask = makeMask(m.frame, &out);
+
+    Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
+    if (frame_index >= 2 && !gyro_biases.pop(&gyro_bias)) break;  // the estimator stopped
+    if (previous_frame_t >= 0) {
+      const Eigen::Matrix3d R_B =
+          gyro_.rotation(previous_frame_t, m.frame.t_ns, gyro_bias).toRotationMatrix();
+      tracker_.setPredictedRotation(R_B_C_.transpose() * R_B * R_B_C_);
+      gyro_.dropBefore(m.frame.t_ns);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    out.features = tracker_.trackFrame(m.frame.t_ns, m.frame.image, mask);
+    out.frontend_ms = msSince(t0);
+    out.dropped_dynamic = tracker_.lastStats().dropped_dynamic;
+    if (!frames.push(std::move(out))) break;
+    out = TrackedFrame{};
+    previous_frame_t = m.frame.t_ns;
+    ++frame_index;
+  }
+  frames.close();
+}
+
+}  // namespace adugs::app

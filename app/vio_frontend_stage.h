@@ -1,0 +1,69 @@
+#pragma once
+// The first stage of `adugs run`'s two-thread pipeline: reads the sequence (image decoding),
+// makes the frame's dynamic mask (none, the simulator's ground truth, or detector -> SORT ->
+// segmentation), and tracks features with a gyro-predicted rotation. It runs one frame ahead of
+// the estimator (second stage, main thread), which sends back the gyro bias after each frame.
+//
+// Determinism: frame k's prediction always uses the bias the estimator had after frame k - 2
+// (zero for the first two), whatever the threads' timing, so runs are reproducible.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/pipeline_channel.h"
+#include "data/euroc_reader.h"
+#include "vio/feature_tracker.h"
+#include "vio/gyro_rotation_predictor.h"
+
+namespace adugs::tracking {
+class YoloxDetector;
+class DynamicMasker;
+}  // namespace adugs::tracking
+
+namespace adugs::app {
+
+// What the front-end hands the estimator for one frame.
+struct TrackedFrame {
+  std::vector<data::ImuSample> imu;  // samples since the previous frame, in time order
+  vio::FrameFeatures features;
+  double sequence_s = 0;  // since the first measurement
+  double frontend_ms = 0;
+  double mask_ms = -1;  // < 0: no detector mask computed
+  double masked_fraction = 0;
+  int dropped_dynamic = 0;
+};
+
+struct FrontEndStageOptions {
+  std::string mask = "none";  // none | gt | detector
+  std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
+};
+
+class FrontEndStage {
+ public:
+  FrontEndStage(data::EurocReader& reader, const vio::FeatureTrackerOptions& tracker_options,
+                const vio::CameraModel& camera, const FrontEndStageOptions& options);
+  ~FrontEndStage();
+
+  // Runs to the end of the sequence, then closes `frames`. Stops early (without error) when
+  // either channel is closed by the estimator side. Exceptions propagate to the caller.
+  void run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>& gyro_biases);
+
+  int imuSamples() const { return imu_samples_; }
+  int64_t firstTimeNs() const { return first_t_; }  // of the first measurement, -1 before
+
+ private:
+  cv::Mat makeMask(const data::Frame& frame, TrackedFrame* out);
+
+  data::EurocReader& reader_;
+  vio::FeatureTracker tracker_;
+  Eigen::Matrix3d R_B_C_;
+  FrontEndStageOptions options_;
+  std::unique_ptr<tracking::YoloxDetector> detector_;
+  std::unique_ptr<tracking::DynamicMasker> masker_;
+  vio::GyroRotationPredictor gyro_;
+  int imu_samples_ = 0;
+  int64_t first_t_ = -1;
+};
+
+}  // namespace adugs::app
