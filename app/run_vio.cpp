@@ -135,6 +135,20 @@ void runVio(const VioRunArgs& a) {
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
         << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - first_t) : -1.0)
         << "\n";
+  {
+    const Eigen::Isometry3d& T = estimator.extrinsic();
+    const Eigen::Isometry3d& T0 = reader.camera().T_B_C;
+    const Eigen::Quaterniond q(T.rotation());
+    extra << "extrinsic_estimated: " << (config.estimator.estimate_extrinsic ? "true" : "false")
+          << "\n"
+          << "extrinsic_T_B_C: [" << T.translation().x() << ", " << T.translation().y() << ", "
+          << T.translation().z() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w()
+          << "]  # tx ty tz qx qy qz qw\n"
+          << "extrinsic_change_deg: "
+          << Eigen::AngleAxisd(T0.rotation().transpose() * T.rotation()).angle() * 180.0 / M_PI
+          << "\n"
+          << "extrinsic_change_m: " << (T.translation() - T0.translation()).norm() << "\n";
+  }
   if (!es.last_failure.empty()) extra << "last_failure: \"" << es.last_failure << "\"\n";
   if (es.init_t_ns < 0 && !es.last_init_failure.empty())
     extra << "last_init_failure: \"" << es.last_init_failure << "\"\n";

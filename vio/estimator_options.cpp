@@ -24,6 +24,9 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("max_position_jump", o->max_position_jump, 0.01, 1000.0);
   r.optional("min_tracked_features", o->min_tracked_features, 0, 10000);
   r.optional("max_imu_gap_s", o->max_imu_gap_s, 0.001, 10.0);
+  r.optional("estimate_extrinsic", o->estimate_extrinsic);
+  r.optional("extrinsic_prior_sigma_m", o->extrinsic_prior_sigma_m, 1e-4, 10.0);
+  r.optional("extrinsic_prior_sigma_deg", o->extrinsic_prior_sigma_deg, 0.01, 90.0);
   r.optional("init_min_span_s", o->init_min_span_s, 0.0, 30.0);
   if (o->max_depth_m <= o->min_depth_m) r.fail("max_depth_m", "must exceed min_depth_m");
   if (r.has("static_init")) {

@@ -32,6 +32,11 @@ struct EstimatorOptions {
   double max_speed = 30.0;         // m/s
   double max_position_jump = 5.0;  // m between the IMU prediction and the solved newest frame
   int min_tracked_features = 10;   // a frame with fewer features resets a moving estimator
+  // Online camera-IMU extrinsic (VINS-Mono's ESTIMATE_EXTRINSIC = 1): T_B_C is refined in the
+  // window while moving, held by a weak prior at the calibrated value (see pose_prior_factor.h).
+  bool estimate_extrinsic = false;
+  double extrinsic_prior_sigma_m = 0.01;
+  double extrinsic_prior_sigma_deg = 3.0;
   // IMU gaps: a frame whose interval since the previous frame has two IMU samples further apart
   // than this (or no sample within this of the frame) breaks the IMU chain: the estimator resets
   // and re-initialises; frames with no IMU near them are skipped (no pose).

@@ -70,6 +70,7 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   };
   std::vector<Block> marg, kept;
   std::unordered_map<const double*, std::pair<bool, size_t>> where;  // marginalised?, index
+  const std::unordered_set<const double*> is_constant(constant_.begin(), constant_.end());
   std::vector<const Residual*> used;
   for (const Residual& res : residuals_) {
     if (std::none_of(res.blocks.begin(), res.blocks.end(),
@@ -78,7 +79,7 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     used.push_back(&res);
     for (size_t k = 0; k < res.blocks.size(); ++k) {
       double* b = res.blocks[k];
-      if (where.count(b)) continue;
+      if (where.count(b) || is_constant.count(b)) continue;
       const bool m = is_marginalized.count(b) > 0;
       auto& list = m ? marg : kept;
       const int size = res.cost->parameter_block_sizes()[k];
@@ -92,32 +93,36 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   for (Block& b : marg) b.offset = n_marg, n_marg += b.tangent;
   n_total = n_marg;
   for (Block& b : kept) b.offset = n_total, n_total += b.tangent;
-  auto find = [&](const double* address) -> const Block& {
-    const auto& [m, index] = where.at(address);
-    return m ? marg[index] : kept[index];
-  };
 
-  // Normal equations of the linearised residuals over [marginalised | kept].
+  // Normal equations of the linearised residuals over [marginalised | kept]; constant blocks
+  // take no part (null Jacobian pointers: the cost skips them).
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_total, n_total);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(n_total);
+  Eigen::VectorXd r;
+  std::vector<RowMajorMatrix> J_amb;
+  std::vector<Eigen::MatrixXd> J;
+  std::vector<double*> jac_ptrs;
+  std::vector<const Block*> blocks;
   for (const Residual* res : used) {
     const int n_res = res->cost->num_residuals();
     const std::vector<int32_t>& sizes = res->cost->parameter_block_sizes();
-    Eigen::VectorXd r(n_res);
-    std::vector<RowMajorMatrix> J_amb(sizes.size());
-    std::vector<double*> jac_ptrs(sizes.size());
-    for (size_t k = 0; k < sizes.size(); ++k) {
+    const size_t n_blocks = sizes.size();
+    r.resize(n_res);
+    J_amb.resize(n_blocks);
+    J.resize(n_blocks);
+    jac_ptrs.assign(n_blocks, nullptr);
+    blocks.assign(n_blocks, nullptr);
+    for (size_t k = 0; k < n_blocks; ++k) {
+      const auto it = where.find(res->blocks[k]);
+      if (it == where.end()) continue;  // constant
+      blocks[k] = it->second.first ? &marg[it->second.second] : &kept[it->second.second];
       J_amb[k].resize(n_res, sizes[k]);
       jac_ptrs[k] = J_amb[k].data();
     }
     if (!res->cost->Evaluate(res->blocks.data(), r.data(), jac_ptrs.data()))
       throw std::invalid_argument("Marginalizer: a cost function failed to evaluate");
-    std::vector<const Block*> blocks(sizes.size());
-    std::vector<Eigen::MatrixXd> J(sizes.size());
-    for (size_t k = 0; k < sizes.size(); ++k) {
-      blocks[k] = &find(res->blocks[k]);
-      J[k] = toTangent(J_amb[k], blocks[k]->manifold, res->blocks[k]);
-    }
+    for (size_t k = 0; k < n_blocks; ++k)
+      if (blocks[k]) J[k] = toTangent(J_amb[k], blocks[k]->manifold, res->blocks[k]);
 
     if (res->loss) {
       // Ceres' Corrector: scale r and J so that the Gauss-Newton model matches rho's curvature.
@@ -131,15 +136,18 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
         residual_scaling = sqrt_rho1 / (1.0 - alpha);
         alpha_sq_norm = alpha / sq_norm;
       }
-      for (auto& Jk : J) Jk = sqrt_rho1 * (Jk - alpha_sq_norm * r * (r.transpose() * Jk));
+      for (size_t k = 0; k < n_blocks; ++k)
+        if (blocks[k]) J[k] = sqrt_rho1 * (J[k] - alpha_sq_norm * r * (r.transpose() * J[k]));
       r *= residual_scaling;
     }
-    for (size_t a = 0; a < sizes.size(); ++a) {
+    for (size_t a = 0; a < n_blocks; ++a) {
+      if (!blocks[a]) continue;
       const Block& ba = *blocks[a];
-      g.segment(ba.offset, ba.tangent) += J[a].transpose() * r;
-      for (size_t b = 0; b < sizes.size(); ++b) {
+      g.segment(ba.offset, ba.tangent).noalias() += J[a].transpose() * r;
+      for (size_t b = 0; b < n_blocks; ++b) {
+        if (!blocks[b]) continue;
         const Block& bb = *blocks[b];
-        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent) += J[a].transpose() * J[b];
+        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent).noalias() += J[a].transpose() * J[b];
       }
     }
   }

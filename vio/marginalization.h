@@ -9,13 +9,13 @@
 //      so that |r_p + J_p dx|^2 = dx^T H* dx + 2 g*^T dx + const.
 // MarginalizationFactor turns the prior into a Ceres cost: r = r_p + J_p (x [-] x0), with [-] the
 // blocks' manifold Minus (poses: PoseManifold).
-#include <memory>
-#include <vector>
-
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
+
 #include <Eigen/Core>
+#include <memory>
+#include <vector>
 
 namespace adugs::vio {
 
@@ -37,6 +37,9 @@ class Marginalizer {
  public:
   // Blocks without a manifold are Euclidean. Not owned: must outlive the prior.
   void setManifold(const double* block, const ceres::Manifold* manifold);
+  // A block held constant in the window (e.g. T_B_C when not estimated): left out of the prior,
+  // and its Jacobians are not evaluated.
+  void setConstant(const double* block) { constant_.push_back(block); }
   // Cost and loss (loss may be null) are not owned and must stay alive until marginalize().
   void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                         std::vector<double*> blocks);
@@ -53,6 +56,7 @@ class Marginalizer {
   };
   std::vector<Residual> residuals_;
   std::vector<std::pair<const double*, const ceres::Manifold*>> manifolds_;
+  std::vector<const double*> constant_;
   const ceres::Manifold* manifoldOf(const double* block) const;
 };
 

@@ -9,6 +9,7 @@
 
 #include "vio/imu_factor.h"
 #include "vio/pose_manifold.h"
+#include "vio/pose_prior_factor.h"
 #include "vio/reprojection_factor.h"
 #include "vio/so3.h"
 #include "vio/static_initializer.h"
@@ -39,7 +40,11 @@ bool contains(const std::vector<double*>& blocks, const double* b) {
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, double focal_px,
                                                const Eigen::Isometry3d& T_B_C,
                                                const ImuPreintegrationOptions& imu_options)
-    : options_(options), focal_px_(focal_px), T_B_C_iso_(T_B_C), imu_options_(imu_options) {
+    : options_(options),
+      focal_px_(focal_px),
+      T_B_C_iso_(T_B_C),
+      T_B_C_calibrated_(T_B_C),
+      imu_options_(imu_options) {
   if (!(focal_px > 0))
     throw std::invalid_argument("SlidingWindowEstimator: focal length must be positive");
   if (options_.window_size < 4 || options_.init.min_frames > options_.window_size)
@@ -324,7 +329,15 @@ void SlidingWindowEstimator::solve() {
     problem.AddParameterBlock(f->speed_bias, 9);
   }
   problem.AddParameterBlock(T_B_C_, 7, const_cast<PoseManifold*>(&kPoseManifold));
-  problem.SetParameterBlockConstant(T_B_C_);
+  const bool extrinsic_free = options_.estimate_extrinsic && !frames_.back()->stationary;
+  if (extrinsic_free) {
+    costs.push_back(std::make_unique<PosePriorFactor>(
+        T_B_C_calibrated_.translation(), Eigen::Quaterniond(T_B_C_calibrated_.rotation()),
+        options_.extrinsic_prior_sigma_m, options_.extrinsic_prior_sigma_deg * M_PI / 180.0));
+    problem.AddResidualBlock(costs.back().get(), nullptr, T_B_C_);
+  } else {
+    problem.SetParameterBlockConstant(T_B_C_);
+  }
   if (!prior_) problem.SetParameterBlockConstant(frames_.front()->pose);  // gauge before any prior
 
   for (size_t k = 1; k < frames_.size(); ++k) {
@@ -376,6 +389,12 @@ void SlidingWindowEstimator::solve() {
   for (auto& f : frames_) {
     Eigen::Map<Eigen::Quaterniond> q(f->pose + 3);
     q.normalize();
+  }
+  if (extrinsic_free) {
+    Eigen::Map<Eigen::Quaterniond> q(T_B_C_ + 3);
+    q.normalize();
+    T_B_C_iso_.linear() = q.toRotationMatrix();
+    T_B_C_iso_.translation() = Eigen::Vector3d(T_B_C_[0], T_B_C_[1], T_B_C_[2]);
   }
   // Only while standing still: there, with no landmark depths, the window is free to wander
   // along yaw and position and does (degrees per second on the real EuRoC start). When moving,
@@ -458,10 +477,17 @@ void SlidingWindowEstimator::slideWindow() {
   stats_.marginalization_ms.push_back(msSince(t0));
 }
 
+void SlidingWindowEstimator::setExtrinsicRole(Marginalizer* m) const {
+  if (options_.estimate_extrinsic)
+    m->setManifold(T_B_C_, &kPoseManifold);  // estimated: the prior keeps what it learnt
+  else
+    m->setConstant(T_B_C_);  // fixed: no part of the prior
+}
+
 void SlidingWindowEstimator::marginalizeOldest() {
   Marginalizer m;
   for (auto& f : frames_) m.setManifold(f->pose, &kPoseManifold);
-  m.setManifold(T_B_C_, &kPoseManifold);
+  setExtrinsicRole(&m);
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   ceres::HuberLoss huber(options_.huber_px);
   Frame& oldest = *frames_[0];
@@ -514,7 +540,7 @@ void SlidingWindowEstimator::dropFrame(int idx) {
       (contains(prior_->blocks, second.pose) || contains(prior_->blocks, second.speed_bias))) {
     Marginalizer m;
     for (auto& f : frames_) m.setManifold(f->pose, &kPoseManifold);
-    m.setManifold(T_B_C_, &kPoseManifold);
+    setExtrinsicRole(&m);
     MarginalizationFactor factor(prior_);
     m.addResidualBlock(&factor, nullptr, prior_->blocks);
     std::vector<const double*> marginalized;

@@ -72,6 +72,9 @@ class SlidingWindowEstimator {
   // Gyro bias of the newest frame (zero before the first frame): what a front-end running on
   // another thread integrates its own gyro prediction with.
   Eigen::Vector3d gyroBias() const;
+  // Camera -> body extrinsic in use: the calibration, or its online estimate
+  // (EstimatorOptions::estimate_extrinsic).
+  const Eigen::Isometry3d& extrinsic() const { return T_B_C_iso_; }
 
   bool initialized() const { return initialized_; }
   const EstimatorStats& stats() const { return stats_; }
@@ -113,6 +116,7 @@ class SlidingWindowEstimator {
   bool secondNewestIsKeyframe() const;
   void slideWindow();
   void marginalizeOldest();
+  void setExtrinsicRole(Marginalizer* m) const;
   void dropSecondNewest();
   void dropFrame(int index);  // merges its IMU into the next frame's preintegration
   void thinWindow();
@@ -124,6 +128,7 @@ class SlidingWindowEstimator {
   double focal_px_;
   double T_B_C_[7];
   Eigen::Isometry3d T_B_C_iso_;
+  Eigen::Isometry3d T_B_C_calibrated_;
   ImuPreintegrationOptions imu_options_;
   std::deque<data::ImuSample> imu_;  // recent samples (kept back to the oldest window frame)
   std::deque<std::unique_ptr<Frame>> frames_;

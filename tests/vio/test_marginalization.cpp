@@ -253,12 +253,16 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
     for (int obs = 0; obs < 2; ++obs)
       add({p.data(), l[i].data(), k1.data()}, {0, 3 + i, 6}, {3, 1, 3}, 2);
   add({p.data(), k2.data()}, {0, 9}, {3, 2}, 3);
+  std::array<double, 2> fixed{0.3, 0.3};  // held constant: not part of the prior
+  add({p.data(), fixed.data()}, {0, -1}, {3, 2}, 2);
   add({k1.data(), k2.data()}, {6, 9}, {3, 2}, 4);  // kept only: ignored by the marginaliser
 
   Marginalizer marginalizer;
+  marginalizer.setConstant(fixed.data());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_all, n_all);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(n_all);
-  for (size_t c = 0; c + 1 < costs.size(); ++c) {
+  for (size_t c = 0; c < costs.size(); ++c) {
+    if (blocks[c][0] == k1.data()) continue;  // kept only: ignored by the marginaliser
     marginalizer.addResidualBlock(costs[c].get(), nullptr, blocks[c]);
     const auto& sizes = costs[c]->parameter_block_sizes();
     const int rows = costs[c]->num_residuals();
@@ -269,7 +273,8 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
     for (auto& m : Jk) ptrs.push_back(m.data());
     Eigen::VectorXd r(rows);
     costs[c]->Evaluate(blocks[c].data(), r.data(), ptrs.data());
-    for (size_t k = 0; k < sizes.size(); ++k) J.middleCols(offsets[c][k], sizes[k]) = Jk[k];
+    for (size_t k = 0; k < sizes.size(); ++k)
+      if (offsets[c][k] >= 0) J.middleCols(offsets[c][k], sizes[k]) = Jk[k];
     H += J.transpose() * J;
     g += J.transpose() * r;
   }
