@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job on an embedded default, nothing downloaded: installs and builds (scripts/setup.sh),
-# generates a synthetic street sequence full of moving people, cars and buses with exact ground
+# generates a synthetic indoor sequence with people walking close past the camera, with exact ground
 # truth, runs the visual-inertial odometry on it twice - without and with the dynamic mask - and
 # prints both ATEs. Everything lands in out/demo/.
 set -euo pipefail
@@ -12,8 +12,8 @@ out="$root/out/demo"
 rm -rf "$out"
 mkdir -p "$out"
 
-echo "== 1/3 generating a 30 s synthetic street sequence, high dynamic level (adugs sim)"
-"$adugs" sim --scene street --level high --seed 3 --duration 30 --out "$out/sequence"
+echo "== 1/3 generating a 30 s synthetic room sequence, people walking close past the camera (adugs sim)"
+"$adugs" sim --scene room --level high --seed 7 --duration 30 --out "$out/sequence"
 
 echo "== 2/3 VIO without dynamic masking (adugs run --mask none)"
 "$adugs" run "$out/sequence" --config data/config/sim.yaml --mask none --out "$out/run_unmasked"

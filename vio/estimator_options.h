@@ -19,7 +19,7 @@ struct EstimatorOptions {
   double pixel_sigma = 1.5;          // reprojection standard deviation [px]
   double huber_px = 1.0;             // robust loss threshold, in sigmas
   int max_iterations = 8;
-  double max_solver_time_s = 0.2;  // a guard only: results should not depend on machine load
+  double max_solver_time_s = 0.2;  // a guard only; when it triggers, results depend on machine load
   double min_depth_m = 0.1, max_depth_m = 80.0;
   double min_triangulation_angle_deg = 1.0;  // rays of a new landmark must meet at least this
   // Zero-velocity updates while stationary (see zero_velocity_factor.h).
