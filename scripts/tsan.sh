@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Builds `adugs` with ThreadSanitizer into build-tsan/ and runs the two-thread VIO pipeline on a
-# short generated dynamic sequence with ground-truth masks (about a minute). Any race report fails.
-# Not part of CI (the extra build takes about 25 minutes on 2 cores). The detector chain is not
-# covered: OpenCV dnn's TBB workers are not instrumented, so every read of a network output is a
-# (suppressed) false race and a 20-frame run takes over 5 minutes. Usage: scripts/tsan.sh
+# short generated dynamic sequence with ground-truth masks (about 2 minutes after the build). Any
+# race report fails. Not part of CI (the extra build takes about 25 minutes on 2 cores). The
+# detector chain is not covered: OpenCV dnn's TBB workers are not instrumented, so every read of a
+# network output shows as a race and a 20-frame run takes over 5 minutes. Usage: scripts/tsan.sh
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
