@@ -149,6 +149,9 @@ void runVio(const VioRunArgs& a) {
           << "\n"
           << "extrinsic_change_m: " << (T.translation() - T0.translation()).norm() << "\n";
   }
+  extra << "time_offset_estimated: " << (config.estimator.estimate_time_offset ? "true" : "false")
+        << "\n"
+        << "time_offset_s: " << estimator.timeOffset() << "  # t_imu = t_cam + td\n";
   if (!es.last_failure.empty()) extra << "last_failure: \"" << es.last_failure << "\"\n";
   if (es.init_t_ns < 0 && !es.last_init_failure.empty())
     extra << "last_init_failure: \"" << es.last_init_failure << "\"\n";

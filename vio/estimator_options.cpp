@@ -1,5 +1,7 @@
 #include "vio/estimator_options.h"
 
+#include <cmath>
+
 #include "data/yaml_options.h"
 
 namespace adugs::vio {
@@ -27,7 +29,14 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("estimate_extrinsic", o->estimate_extrinsic);
   r.optional("extrinsic_prior_sigma_m", o->extrinsic_prior_sigma_m, 1e-4, 10.0);
   r.optional("extrinsic_prior_sigma_deg", o->extrinsic_prior_sigma_deg, 0.01, 90.0);
+  r.optional("time_offset_s", o->time_offset_s, -1.0, 1.0);
+  r.optional("estimate_time_offset", o->estimate_time_offset);
+  r.optional("time_offset_prior_sigma_s", o->time_offset_prior_sigma_s, 1e-5, 1.0);
+  r.optional("max_time_offset_s", o->max_time_offset_s, 1e-4, 1.0);
+  r.optional("time_offset_warmup_s", o->time_offset_warmup_s, 0.0, 600.0);
   r.optional("init_min_span_s", o->init_min_span_s, 0.0, 30.0);
+  if (std::abs(o->time_offset_s) >= o->max_time_offset_s)
+    r.fail("time_offset_s", "must lie within +-max_time_offset_s");
   if (o->max_depth_m <= o->min_depth_m) r.fail("max_depth_m", "must exceed min_depth_m");
   if (r.has("static_init")) {
     data::YamlOptionsReader s = r.child("static_init");

@@ -37,6 +37,18 @@ struct EstimatorOptions {
   bool estimate_extrinsic = false;
   double extrinsic_prior_sigma_m = 0.01;
   double extrinsic_prior_sigma_deg = 3.0;
+  // Camera-IMU time offset td (Kalibr's timeshift_cam_imu: t_imu = t_cam + td). time_offset_s is
+  // the calibrated value; with estimate_time_offset (VINS-Mono's ESTIMATE_TD) td is refined in the
+  // window, each observation shifted along its image velocity (reprojection_factor.h), held by a
+  // weak prior at the calibrated value; a run whose estimate leaves +-max_time_offset_s resets.
+  // td stays fixed until the estimator has been moving for time_offset_warmup_s since the
+  // (re-)initialisation or the last stationary frame: freed right at take-off on the hybrid V1_01
+  // it jumped to 34 ms and took a minute to come back.
+  double time_offset_s = 0.0;
+  bool estimate_time_offset = false;
+  double time_offset_prior_sigma_s = 0.02;
+  double max_time_offset_s = 0.1;
+  double time_offset_warmup_s = 3.0;
   // IMU gaps: a frame whose interval since the previous frame has two IMU samples further apart
   // than this (or no sample within this of the frame) breaks the IMU chain: the estimator resets
   // and re-initialises; frames with no IMU near them are skipped (no pose).

@@ -10,7 +10,10 @@
 // visual-inertial one on a full window. Initialised: triangulate new landmarks, solve, check for
 // failure (non-finite, huge bias/speed, jump, too few features) -> reset, else slide the window.
 //
-// Body = IMU frame, T_W_B, gravity (0, 0, -9.81) in W; time t_imu = t_cam (no offset estimated).
+// Body = IMU frame, T_W_B, gravity (0, 0, -9.81) in W. Camera-IMU time offset td (Kalibr's
+// convention, t_imu = t_cam + td): a frame stamped t_cam is the state at IMU time t_cam + td,
+// with td the calibrated value or, with estimate_time_offset, the estimate when the frame came in
+// (VINS-Mono's scheme: later changes of td move each observation along its image velocity).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -18,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "data/types.h"
@@ -27,16 +31,21 @@
 #include "vio/landmark_map.h"
 #include "vio/marginalization.h"
 
+namespace ceres {
+class CostFunction;
+}
+
 namespace adugs::vio {
 
 struct EstimatorState {
-  int64_t t_ns = 0;
+  int64_t t_ns = 0;  // IMU clock: the frame's camera stamp + the time offset it was added with
   Eigen::Vector3d p_W_B = Eigen::Vector3d::Zero();
   Eigen::Quaterniond q_W_B = Eigen::Quaterniond::Identity();
   Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
   bool stationary = false;
+  double time_offset_s = 0;  // the current estimate (or calibration) of td
 };
 
 struct EstimatorStats {
@@ -75,6 +84,9 @@ class SlidingWindowEstimator {
   // Camera -> body extrinsic in use: the calibration, or its online estimate
   // (EstimatorOptions::estimate_extrinsic).
   const Eigen::Isometry3d& extrinsic() const { return T_B_C_iso_; }
+  // Camera-IMU time offset td in use [s]: the calibration, or its online estimate
+  // (EstimatorOptions::estimate_time_offset).
+  double timeOffset() const { return td_; }
 
   bool initialized() const { return initialized_; }
   const EstimatorStats& stats() const { return stats_; }
@@ -82,12 +94,14 @@ class SlidingWindowEstimator {
 
  private:
   struct Frame {
-    int64_t t_ns = 0;
+    int64_t t_ns = 0;                        // camera stamp
+    double td = 0;                           // time offset when added: state at t_ns + td
     double pose[7];                          // p, q (x y z w)
     double speed_bias[9];                    // v, ba, bg
     std::shared_ptr<ImuPreintegration> imu;  // from the previous window frame (null for the first)
     FrameFeatures features;                  // kept for the visual-inertial initialisation
     bool stationary = false;
+    int64_t imuTimeNs() const { return t_ns + data::secToNs(td); }
     Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
     Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
     Eigen::Vector3d v() const {
@@ -116,11 +130,19 @@ class SlidingWindowEstimator {
   bool secondNewestIsKeyframe() const;
   void slideWindow();
   void marginalizeOldest();
-  void setExtrinsicRole(Marginalizer* m) const;
+  // T_B_C and td in a marginalisation: kept in the prior when estimated, else constant.
+  void setCalibrationRoles(Marginalizer* m) const;
   void dropSecondNewest();
   void dropFrame(int index);  // merges its IMU into the next frame's preintegration
   void thinWindow();
+  // The reprojection factor of observation o of landmark l (hosted at `host`), with or without
+  // the time offset, and its parameter blocks.
+  std::unique_ptr<ceres::CostFunction> reprojectionCost(const Observation& host,
+                                                        const Observation& o, double sqrt_info,
+                                                        Landmark& l, std::vector<double*>* blocks);
   std::vector<Eigen::Isometry3d> cameraPoses() const;
+  // The features with the image velocities the time-offset factors use (see the .cpp).
+  FrameFeatures timeOffsetVelocities(const FrameFeatures& features);
   EstimatorState stateOf(const Frame& f) const;
   void dropOldestUninitialized();
 
@@ -129,12 +151,17 @@ class SlidingWindowEstimator {
   double T_B_C_[7];
   Eigen::Isometry3d T_B_C_iso_;
   Eigen::Isometry3d T_B_C_calibrated_;
+  double td_ = 0;  // the one-value Ceres block of the time offset
+  std::unordered_map<int64_t, Eigen::Vector2d> last_velocities_;  // feature id -> at the last frame
   ImuPreintegrationOptions imu_options_;
   std::deque<data::ImuSample> imu_;  // recent samples (kept back to the oldest window frame)
   std::deque<std::unique_ptr<Frame>> frames_;
   LandmarkMap landmarks_;
   std::shared_ptr<const MarginalizationPrior> prior_;
   bool initialized_ = false;
+  // Camera stamp of the latest (re-)initialisation or stationary frame: td is held until the
+  // estimator has been moving for time_offset_warmup_s after it.
+  int64_t settled_since_ns_ = 0;
   EstimatorStats stats_;
 };
 

@@ -175,6 +175,14 @@ TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
             2)
       << log;
   EXPECT_NE(log.find("max_featurs"), std::string::npos) << log;
+  writeText(out / "offset.yaml",
+            "estimator:\n  estimate_time_offset: true\n  time_offset_s: 0.3\n");  // > max 0.1 s
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
+                         (out / "offset.yaml").string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("time_offset_s"), std::string::npos) << log;
 }
 
 }  // namespace

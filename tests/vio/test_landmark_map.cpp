@@ -2,6 +2,7 @@
 
 #include "tests/vio/jacobian_check.h"
 #include "vio/landmark_map.h"
+#include "vio/scalar_prior_factor.h"
 #include "vio/zero_velocity_factor.h"
 
 namespace adugs::vio {
@@ -97,6 +98,17 @@ TEST(ZeroVelocityFactor, ResidualAndJacobian) {
   EXPECT_NEAR(r[1], -1.0, 1e-12);
   EXPECT_NEAR(r[2], 0.5, 1e-12);
   const auto check = testing::checkJacobians(f, {sb}, {nullptr});
+  EXPECT_TRUE(check.ok) << check.report;
+}
+
+TEST(ScalarPriorFactor, ResidualAndJacobian) {
+  ScalarPriorFactor f(0.004, 0.002);  // calibrated td 4 ms, sigma 2 ms
+  double td = 0.001;
+  const double* params[] = {&td};
+  double r;
+  ASSERT_TRUE(f.Evaluate(params, &r, nullptr));
+  EXPECT_NEAR(r, -1.5, 1e-12);  // (1 - 4) / 2
+  const auto check = testing::checkJacobians(f, {&td}, {nullptr});
   EXPECT_TRUE(check.ok) << check.report;
 }
 
