@@ -139,7 +139,6 @@ EstimatorState SlidingWindowEstimator::stateOf(const Frame& f) const {
   s.gyro_bias = f.bg();
   s.stationary = f.stationary;
   s.t_ns = f.imuTimeNs();
-  s.time_offset_s = td_;
   return s;
 }
 
@@ -296,8 +295,13 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     setSpeedBias(v, prev.ba(), prev.bg(), frame->speed_bias);
   }
   frames_.push_back(std::move(frame));
-  landmarks_.addFrame(static_cast<int>(frames_.size()) - 1, timeOffsetVelocities(features));
+  const int newest = static_cast<int>(frames_.size()) - 1;
+  if (options_.estimate_time_offset)
+    landmarks_.addFrame(newest, timeOffsetVelocities(features));
+  else
+    landmarks_.addFrame(newest, features);  // velocities unused
   frames_.back()->stationary = isStationary();
+  if (frames_.back()->stationary) settled_since_ns_ = features.t_ns;
 
   bool just_initialized = false;
   if (!initialized_) {
@@ -367,8 +371,6 @@ void SlidingWindowEstimator::solve() {
   }
   problem.AddParameterBlock(&td_, 1);
   // Standing still there is no image motion to tell the offset by.
-  for (const auto& f : frames_)
-    if (f->stationary) settled_since_ns_ = std::max(settled_since_ns_, f->t_ns);
   const bool td_free = options_.estimate_time_offset && !frames_.back()->stationary &&
                        data::nsToSec(frames_.back()->t_ns - settled_since_ns_) >=
                            options_.time_offset_warmup_s;

@@ -45,7 +45,6 @@ struct EstimatorState {
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
   bool stationary = false;
-  double time_offset_s = 0;  // the current estimate (or calibration) of td
 };
 
 struct EstimatorStats {
@@ -141,7 +140,8 @@ class SlidingWindowEstimator {
                                                         const Observation& o, double sqrt_info,
                                                         Landmark& l, std::vector<double*>* blocks);
   std::vector<Eigen::Isometry3d> cameraPoses() const;
-  // The features with the image velocities the time-offset factors use (see the .cpp).
+  // The features with the image velocities the time-offset factors use (see the .cpp); only
+  // called when td is estimated.
   FrameFeatures timeOffsetVelocities(const FrameFeatures& features);
   EstimatorState stateOf(const Frame& f) const;
   void dropOldestUninitialized();
