@@ -75,7 +75,8 @@ void registerSimCommand(CLI::App& root) {
   cmd->add_option("--imu", o.imu_path, "hybrid: real EuRoC imu0/data.csv to keep");
   cmd->add_option("--calib", o.calib_path, "hybrid: EuRoC cam0/sensor.yaml (intrinsics, T_BS)");
   cmd->add_option("--imu-calib", o.imu_calib_path,
-                  "hybrid: imu0/sensor.yaml for the noise figures (default: next to --imu)");
+                  "imu0/sensor.yaml noise figures: hybrid, of the real IMU (default: next to "
+                  "--imu); synthetic, the noise to simulate (default: EuRoC's ADIS16448)");
   cmd->callback([a] { runSim(*a); });
 }
 

@@ -48,6 +48,14 @@ Prepared prepareSynthetic(const SimSequenceOptions& o) {
   p.camera_rate_hz = o.camera_rate_hz;
   SimImuOptions imu = o.imu;
   imu.seed = o.seed;
+  if (!o.imu_calib_path.empty()) {
+    // Simulate a given IMU (e.g. a D435i's Kalibr imu.yaml converted to EuRoC form).
+    const ImuNoise given = readEurocImuYaml(o.imu_calib_path);
+    imu.gyro_noise_density = given.gyro_noise_density;
+    imu.gyro_random_walk = given.gyro_random_walk;
+    imu.accel_noise_density = given.accel_noise_density;
+    imu.accel_random_walk = given.accel_random_walk;
+  }
   p.imu_noise = noiseOf(imu);
   for (const SimImuRecord& r : synthesizeImu(*p.trajectory, imu)) {
     p.imu.push_back(r.sample);

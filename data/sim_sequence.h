@@ -36,7 +36,10 @@ struct SimSequenceOptions {
   double exposure_ms = 0.0;
   // Hybrid mode (all three set): EuRoC ground-truth CSV, EuRoC imu0/data.csv, cam0/sensor.yaml.
   std::string trajectory_path, imu_path, calib_path;
-  std::string imu_calib_path;  // optional; default: sensor.yaml next to imu_path if present
+  // Optional EuRoC imu0/sensor.yaml. Hybrid: the real IMU's figures (default: the sensor.yaml
+  // next to imu_path). Synthetic: the noise densities and random walks to simulate with
+  // (default: those in `imu`, EuRoC's ADIS16448); the rate stays imu.rate_hz.
+  std::string imu_calib_path;
   bool progress = true;        // progress lines on stderr
 };
 

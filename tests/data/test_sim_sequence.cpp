@@ -1,5 +1,7 @@
 // End-to-end sequence generation: the EuRoC reader loads it, masks and MOT rows are there, the
 // bytes are deterministic, hybrid mode follows the shared V1_01 data, bad input is an InputError.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -8,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "data/euroc_reader.h"
+#include "data/euroc_sensor_yaml.h"
 #include "data/input_error.h"
 #include "data/sim_sequence.h"
 #include "data/trajectory_io.h"
@@ -125,6 +128,49 @@ TEST(SimSequence, HybridFollowsSharedV101) {
   }
   EXPECT_EQ(frames, 21);
   EXPECT_EQ(first_imu, 1403715273262142976);
+}
+
+// A given imu0/sensor.yaml sets the noise the synthetic IMU is drawn with, and the written
+// sensor.yaml carries it on to the estimator.
+TEST(SimSequence, SimulatesTheGivenImuNoiseFigures) {
+  test::TempDir dir("adugs_sim_imu_noise");
+  ImuNoise given;
+  given.rate_hz = 200;
+  given.gyro_noise_density = 2e-3;
+  given.gyro_random_walk = 1e-9;
+  given.accel_noise_density = 2e-2;
+  given.accel_random_walk = 0.3;  // 100x EuRoC's, so the walk shows within the short sequence
+  writeEurocImuYaml((dir / "imu.yaml").string(), given);
+  SimSequenceOptions o = smallOptions();
+  o.level = SimLevel::kNone;
+  o.duration_s = 0.5;
+  o.imu_calib_path = (dir / "imu.yaml").string();
+  generateSimSequence(o, (dir / "seq").string());
+
+  EurocReader reader((dir / "seq").string());
+  EXPECT_DOUBLE_EQ(reader.imuNoise().accel_random_walk, 0.3);
+  EXPECT_DOUBLE_EQ(reader.imuNoise().gyro_noise_density, 2e-3);
+  const std::vector<GroundTruthState> truth =
+      readGroundTruthStates((dir / "seq/mav0/state_groundtruth_estimate0/data.csv").string());
+  ASSERT_GT(truth.size(), 90u);
+  double sum_sq = 0, gyro_change = 0;
+  int n = 0;
+  for (size_t k = 1; k < truth.size(); ++k, n += 3) {
+    sum_sq += (truth[k].accel_bias - truth[k - 1].accel_bias).squaredNorm();
+    gyro_change = std::max(gyro_change, (truth[k].gyro_bias - truth[0].gyro_bias).norm());
+  }
+  // Per-sample bias steps have sigma = random_walk * sqrt(dt).
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.3 * std::sqrt(1.0 / 200), 0.2 * 0.3 * std::sqrt(1.0 / 200));
+  EXPECT_LT(gyro_change, 1e-6);
+
+  test::writeText(dir / "bad.yaml", "%YAML:1.0\nsensor_type: imu\nrate_hz: 200\n");
+  o.imu_calib_path = (dir / "bad.yaml").string();
+  try {
+    generateSimSequence(o, (dir / "bad").string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SimSequence, BadInputIsInputError) {
