@@ -49,6 +49,9 @@ void registerSimCommand(CLI::App& root) {
   cmd->add_option("--out", a->out, "output folder (gets mav0/; with --level all, one folder per level)")
       ->required();
   cmd->add_option("--scene", o.scene, "world: room or street")->capture_default_str();
+  cmd->add_option("--motion", o.motion,
+                  "how the rig moves: glide (smooth, vehicle-like) or handheld (walking: step bob and sway)")
+      ->capture_default_str();
   cmd->add_option("--level", a->level, "moving objects: none, low, mid, high or all")
       ->capture_default_str();
   cmd->add_option("--seed", o.seed, "random seed (world, path, objects, noise)")->capture_default_str();

@@ -327,9 +327,18 @@ Eigen::Isometry3d defaultSimT_B_C() {
   return T;
 }
 
+std::vector<std::string> simMotionNames() { return {"glide", "handheld"}; }
+
+void checkSimMotionName(const std::string& name) {
+  for (const std::string& n : simMotionNames())
+    if (n == name) return;
+  throw InputError("command line", 0, "--motion", "unknown motion '" + name + "' (use glide or handheld)");
+}
+
 SineTrajectory makeSceneTrajectory(const std::string& scene, uint64_t seed, int64_t start_ns,
-                                   int64_t end_ns) {
+                                   int64_t end_ns, const std::string& motion) {
   checkSimSceneName(scene);
+  checkSimMotionName(motion);
   SimRng rng = SimRng::derive(seed, kStreamTrajectory);
   auto ph = [&]() { return rng.uniform(0, 2 * M_PI); };
   auto vary = [&](double x) { return x * rng.uniform(0.85, 1.15); };
@@ -348,6 +357,17 @@ SineTrajectory makeSceneTrajectory(const std::string& scene, uint64_t seed, int6
     ch[SineTrajectory::kYaw] = {0.0, 0.0, {{0.7, vary(0.12), ph()}, {0.15, vary(0.6), ph()}}};
     ch[SineTrajectory::kPitch] = {0.0, 0.0, {{0.05, vary(0.8), ph()}, {0.02, vary(2.3), ph()}}};
     ch[SineTrajectory::kRoll] = {0.0, 0.0, {{0.04, vary(1.0), ph()}, {0.015, vary(2.7), ph()}}};
+  }
+  if (motion == "handheld") {  // drawn after the glide terms, so those stay as they were
+    const double step = vary(11.0);  // rad/s: 1.75 steps per second
+    const double sway_phase = ph();
+    ch[SineTrajectory::kZ].terms.push_back({0.02, step, ph()});
+    // Sideways sway at half the step rate; the room path turns all the time, so both axes.
+    ch[SineTrajectory::kY].terms.push_back({0.015, step / 2, sway_phase});
+    if (scene == "room") ch[SineTrajectory::kX].terms.push_back({0.015, step / 2, sway_phase + M_PI / 2});
+    ch[SineTrajectory::kPitch].terms.push_back({0.015, step, ph()});
+    ch[SineTrajectory::kRoll].terms.push_back({0.012, step / 2, ph()});
+    ch[SineTrajectory::kYaw].terms.push_back({0.01, step / 2, ph()});
   }
   return SineTrajectory(start_ns, end_ns, ch);
 }

@@ -109,9 +109,18 @@ void checkSimSceneName(const std::string& name);
 // small offset and tilt as on a real rig.
 Eigen::Isometry3d defaultSimT_B_C();
 
-// The camera path of a built-in scene: smooth sums of sines, fixed by the seed.
+// How the rig is carried. "glide": a smooth vehicle-like path (the slow sums of sines alone; RMS
+// acceleration 0.15-0.3 m/s^2). "handheld": the same path walked with the rig in hand: vertical
+// bob at the step frequency (~1.75 Hz, ~2 cm), sideways sway at half of it, small pitch and roll
+// nods (RMS acceleration ~1.5-2 m/s^2, as in handheld recordings such as TUM-VI).
+std::vector<std::string> simMotionNames();
+// Throws InputError naming the valid motions.
+void checkSimMotionName(const std::string& name);
+
+// The camera path of a built-in scene: smooth sums of sines, fixed by the seed. The glide part
+// does not depend on `motion` (same seed, same path; handheld adds its terms on top).
 SineTrajectory makeSceneTrajectory(const std::string& scene, uint64_t seed, int64_t start_ns,
-                                   int64_t end_ns);
+                                   int64_t end_ns, const std::string& motion = "glide");
 
 // The static world around a body path (sampled to size the room / street). Depends on the seed
 // only. "room": textured walls, floor, ceiling, furniture boxes; "street": road, sidewalks, rows

@@ -42,7 +42,7 @@ ImuNoise noiseOf(const SimImuOptions& o) {
 Prepared prepareSynthetic(const SimSequenceOptions& o) {
   Prepared p;
   const int64_t end = o.start_ns + secToNs(o.duration_s);
-  p.trajectory = std::make_unique<SineTrajectory>(makeSceneTrajectory(o.scene, o.seed, o.start_ns, end));
+  p.trajectory = std::make_unique<SineTrajectory>(makeSceneTrajectory(o.scene, o.seed, o.start_ns, end, o.motion));
   p.camera = o.camera;
   p.T_B_C = o.T_B_C;
   p.camera_rate_hz = o.camera_rate_hz;
@@ -118,6 +118,7 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
   s << "# adugs sim: how this sequence was generated\n";
   s << "mode: " << (isHybrid(o) ? "hybrid" : "synthetic") << "\n";
   s << "scene: " << o.scene << "\nlevel: " << toString(o.level) << "\nseed: " << o.seed << "\n";
+  if (!isHybrid(o)) s << "motion: " << o.motion << "\n";
   if (isHybrid(o))
     s << "trajectory: " << o.trajectory_path << "\nimu: " << o.imu_path << "\ncalib: " << o.calib_path << "\n";
   s << "start_ns: " << p.trajectory->startNs() << "\nend_ns: " << p.trajectory->endNs() << "\n";
@@ -137,6 +138,7 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
 
 void checkOptions(const SimSequenceOptions& o) {
   checkSimSceneName(o.scene);
+  checkSimMotionName(o.motion);
   if (!isHybrid(o) && !(o.duration_s > 0))
     throw InputError("command line", 0, "--duration", "must be positive (seconds)");
   if (!(o.camera_rate_hz > 0)) throw InputError("command line", 0, "--rate", "must be positive (Hz)");

@@ -20,6 +20,7 @@ constexpr int64_t kSimDefaultStartNs = 1700000000000000000;
 
 struct SimSequenceOptions {
   std::string scene = "room";
+  std::string motion = "glide";  // synthetic mode: "glide" or "handheld" (see makeSceneTrajectory)
   SimLevel level = SimLevel::kHigh;
   uint64_t seed = 0;
   double duration_s = 60.0;  // hybrid: <= 0 means the whole given trajectory

@@ -173,6 +173,29 @@ TEST(SimSequence, SimulatesTheGivenImuNoiseFigures) {
   }
 }
 
+// "handheld" walks the same glide path with the rig in hand: it stays within a few centimetres
+// of the glide path but accelerates an order of magnitude more (the step bob).
+TEST(SimSceneTrajectory, HandheldAddsStepBobToTheSameGlidePath) {
+  for (const std::string scene : {"room", "street"}) {
+    const int64_t t0 = kSimDefaultStartNs, t1 = t0 + secToNs(20);
+    const SineTrajectory glide = makeSceneTrajectory(scene, 4, t0, t1);
+    const SineTrajectory hand = makeSceneTrajectory(scene, 4, t0, t1, "handheld");
+    double max_offset = 0, sum_a_glide = 0, sum_a_hand = 0;
+    int n = 0;
+    for (int64_t t = t0; t <= t1; t += secToNs(0.01), ++n) {
+      const SimBodyState g = glide.stateAt(t), h = hand.stateAt(t);
+      max_offset = std::max(max_offset, (h.p_W_B - g.p_W_B).norm());
+      sum_a_glide += g.a_W.squaredNorm();
+      sum_a_hand += h.a_W.squaredNorm();
+    }
+    EXPECT_GT(max_offset, 0.015) << scene;
+    EXPECT_LT(max_offset, 0.05) << scene;
+    EXPECT_LT(std::sqrt(sum_a_glide / n), 0.5) << scene;
+    EXPECT_GT(std::sqrt(sum_a_hand / n), 1.2) << scene;
+  }
+  EXPECT_THROW(checkSimMotionName("jog"), InputError);
+}
+
 TEST(SimSequence, BadInputIsInputError) {
   EXPECT_THROW(parseSimLevel("extreme"), InputError);
   test::TempDir dir("adugs_sim_bad");
