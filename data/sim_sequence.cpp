@@ -147,6 +147,8 @@ void checkOptions(const SimSequenceOptions& o) {
   const int given = !o.trajectory_path.empty() + !o.imu_path.empty() + !o.calib_path.empty();
   if (given != 0 && given != 3)
     throw InputError("command line", 0, "--trajectory/--imu/--calib", "hybrid mode needs all three files");
+  if (isHybrid(o) && o.motion != "glide")
+    throw InputError("command line", 0, "--motion", "hybrid mode follows the given trajectory; leave --motion out");
 }
 
 }  // namespace

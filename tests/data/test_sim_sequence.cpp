@@ -210,6 +210,16 @@ TEST(SimSequence, BadInputIsInputError) {
   o.imu_path = (root / "mav0/imu0/data.csv").string();
   o.calib_path = (root / "mav0/cam0/sensor.yaml").string();
   EXPECT_THROW(generateSimSequence(o, (dir / "out").string()), InputError);
+  o.trajectory_path = (root / "groundtruth/V1_01_easy_vicon2gt.csv").string();
+  o.motion = "handheld";  // hybrid follows the given path: a motion would be silently ignored
+  try {
+    generateSimSequence(o, (dir / "out_motion").string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--motion"), std::string::npos) << e.what();
+  }
+  o.motion = "glide";
+  o.trajectory_path = (dir / "missing.csv").string();
 
   // An IMU stream that stops after 0.5 s cannot serve a 1 s trajectory.
   std::ifstream in(root / "mav0/imu0/data.csv");

@@ -96,22 +96,26 @@ EvalResult evaluate(const data::Trajectory& est, const std::string& root) {
 }
 
 // Heading error of each estimated pose against the ground truth at the same stamp: the yaw of
-// R_est R_gt^T about world z. Returns max - min over the run, in degrees (a constant offset is
-// just the unobservable initial yaw; a spread means the heading moved).
+// R_est R_gt^T about world z, taken relative to the first pose's (the unobservable initial yaw;
+// relative, so no wrap at +-180 deg). Returns max - min over the run, in degrees.
 double headingErrorSpreadDeg(const data::Trajectory& est, const std::string& root) {
   const data::Trajectory gt =
       data::readTrajectory(root + "/mav0/state_groundtruth_estimate0/data.csv");
   std::map<int64_t, Eigen::Quaterniond> truth;
   for (const auto& p : gt) truth[p.t_ns] = p.q_W_B;
+  std::optional<Eigen::Quaterniond> first;
   double lo = 1e9, hi = -1e9;
   for (const auto& p : est) {
     const auto it = truth.find(p.t_ns);
     if (it == truth.end()) continue;
-    const Eigen::Matrix3d d = (p.q_W_B * it->second.conjugate()).toRotationMatrix();
+    const Eigen::Quaterniond error = p.q_W_B * it->second.conjugate();
+    if (!first) first = error;
+    const Eigen::Matrix3d d = (error * first->conjugate()).toRotationMatrix();
     const double yaw = std::atan2(d(1, 0) - d(0, 1), d(0, 0) + d(1, 1)) * 180.0 / M_PI;
     lo = std::min(lo, yaw);
     hi = std::max(hi, yaw);
   }
+  EXPECT_TRUE(first.has_value()) << "no estimated pose matches a ground-truth stamp";
   return hi - lo;
 }
 
