@@ -11,6 +11,8 @@
 //   3. tracked points inside the dynamic mask (nonzero = dynamic) are dropped: r of the s tracked;
 //   4. RANSAC fundamental matrix on the remaining undistorted points drops outliers
 //      (s counts the points that survive 1, 2 and 4; r the dynamic ones among them);
+//   4b. each surviving point is refined by aligning the patch where it was first seen (its
+//      anchor, vio/anchor_patch.h) to the image, so KLT's frame-to-frame errors do not add up;
 //   5. new ORB (FAST score) corners outside the mask and at least D_min from the kept features,
 //      thinned by ANMS to exactly N_max - s + r (fewer only when the image has too few corners),
 //      so every frame ends with N_max features.
@@ -22,6 +24,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "vio/anchor_patch.h"
 #include "vio/camera_model.h"
 #include "vio/feature_tracker_options.h"
 
@@ -52,8 +55,9 @@ struct FrameStats {
   int new_points = 0;         // what detection delivered (== requested unless corners ran out)
   int total = 0;              // features after this frame: s - r + new_points
   double mean_lifetime = 0;   // mean track count of the output features
+  int reanchored = 0;         // tracked points whose anchor fit failed (KLT kept, new anchor)
   // Milliseconds per stage.
-  double klt_ms = 0, fb_ms = 0, ransac_ms = 0, detect_ms = 0, anms_ms = 0, total_ms = 0;
+  double klt_ms = 0, fb_ms = 0, anchor_ms = 0, ransac_ms = 0, detect_ms = 0, anms_ms = 0, total_ms = 0;
 };
 
 class FeatureTracker {
@@ -89,12 +93,21 @@ class FeatureTracker {
 
   void track(const cv::Mat& image, const cv::Mat& mask, FrameFeatures* out);
   void detect(const cv::Mat& image, const cv::Mat& mask, FrameFeatures* out);
+  // The feature's anchor (vio/anchor_patch.h) and the affine warp of its last fit.
+  struct Anchor {
+    std::shared_ptr<const AnchorPatch> patch;
+    Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+  };
+  Anchor makeAnchor(const cv::Mat& image, const cv::Point2f& p) const;
+  // Refines a KLT position against the feature's anchor; re-anchors when the fit is not trusted.
+  void refineWithAnchor(const cv::Mat& image, cv::Point2f* position, Anchor* anchor);
 
   FeatureTrackerOptions options_;
   CameraModel camera_;
   std::unique_ptr<Impl> impl_;
   cv::Mat prev_image_;
   FrameFeatures current_;  // the last frame's output = the next frame's input
+  std::vector<Anchor> anchors_, next_anchors_;  // index-aligned with current_ / the output
   bool has_prev_ = false;
   int64_t next_id_ = 0;
   bool has_prediction_ = false;

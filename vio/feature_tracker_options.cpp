@@ -11,6 +11,11 @@ void readFeatureTrackerOptions(data::YamlOptionsReader& r, FeatureTrackerOptions
   r.optional("klt_pyramid_levels", o->klt_pyramid_levels, 0, 8);
   r.optional("klt_min_eigen", o->klt_min_eigen, 0.0, 1.0);
   r.optional("border_px", o->border_px, 0.0, 100.0);
+  r.optional("anchor_alignment", o->anchor_alignment);
+  r.optional("anchor_patch_half_px", o->anchor_patch_half_px, 2, 30);
+  r.optional("anchor_max_correction_px", o->anchor_max_correction_px, 0.0, 100.0);
+  r.optional("anchor_min_zncc", o->anchor_min_zncc, -1.0, 1.0);
+  r.optional("anchor_max_scale", o->anchor_max_scale, 1.0, 10.0);
   r.optional("fb_check", o->fb_check);
   r.optional("fb_threshold_px", o->fb_threshold_px, 0.0, 100.0);
   r.optional("fb_pyramid_levels", o->fb_pyramid_levels, 0, 8);

@@ -25,6 +25,17 @@ struct FeatureTrackerOptions {
   double klt_min_eigen = 1e-4;  // OpenCV's minEigThreshold: drops points on textureless patches
   double border_px = 1.0;       // tracked points closer than this to the image edge are lost
 
+  // Anchor alignment (vio/anchor_patch.h): every frame, refine each KLT position by an affine
+  // alignment of the patch where the feature was first seen, so track errors do not add up. A
+  // fit that moves the point more than anchor_max_correction_px, correlates below
+  // anchor_min_zncc or scales the patch beyond anchor_max_scale (or 1 / it) re-anchors the
+  // feature at its KLT position instead.
+  bool anchor_alignment = true;
+  int anchor_patch_half_px = 8;  // patch (2 h + 1)^2
+  double anchor_max_correction_px = 1.0;
+  double anchor_min_zncc = 0.9;
+  double anchor_max_scale = 1.5;
+
   // Forward-backward check: track back into the previous image, reject if the round trip misses
   // the start by more than fb_threshold_px.
   bool fb_check = true;

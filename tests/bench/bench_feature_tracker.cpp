@@ -63,7 +63,7 @@ void runTracker(benchmark::State& state, const FeatureTrackerOptions& options) {
   int64_t t_ns = 0;
   size_t i = 0;
   tracker.trackFrame(t_ns, seq->images[i++]);  // first frame: detection only, not measured
-  double klt = 0, fb = 0, ransac = 0, detect = 0, anms = 0, features = 0, lifetime = 0;
+  double klt = 0, fb = 0, ransac = 0, anchor = 0, detect = 0, anms = 0, features = 0, lifetime = 0;
   std::vector<double> frame_ms;
   for (auto _ : state) {
     t_ns += 50'000'000;
@@ -72,7 +72,7 @@ void runTracker(benchmark::State& state, const FeatureTrackerOptions& options) {
     i = (i + 1) % seq->images.size();
     const auto& s = tracker.lastStats();
     klt += s.klt_ms, fb += s.fb_ms, ransac += s.ransac_ms, detect += s.detect_ms;
-    anms += s.anms_ms, features += s.total, lifetime += s.mean_lifetime;
+    anchor += s.anchor_ms, anms += s.anms_ms, features += s.total, lifetime += s.mean_lifetime;
     frame_ms.push_back(s.total_ms);
   }
   addFrameTimeCounters(state, frame_ms);
@@ -80,15 +80,24 @@ void runTracker(benchmark::State& state, const FeatureTrackerOptions& options) {
   state.counters["klt_ms"] = klt / n;
   state.counters["fb_ms"] = fb / n;
   state.counters["ransac_ms"] = ransac / n;
+  state.counters["anchor_ms"] = anchor / n;
   state.counters["orb_ms"] = detect / n;
   state.counters["anms_ms"] = anms / n;
   state.counters["features"] = features / n;
   state.counters["lifetime"] = lifetime / n;
 }
 
-// Default options (N_max 200, 21 px window, 3 pyramid levels, FB check, RANSAC).
+// Default options (N_max 200, 15 px window, 3 pyramid levels, FB check, RANSAC, anchors).
 void BM_TrackFrameDefault(benchmark::State& state) { runTracker(state, FeatureTrackerOptions{}); }
 BENCHMARK(BM_TrackFrameDefault)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same without the anchor alignment: what it costs.
+void BM_TrackFrameNoAnchors(benchmark::State& state) {
+  FeatureTrackerOptions o;
+  o.anchor_alignment = false;
+  runTracker(state, o);
+}
+BENCHMARK(BM_TrackFrameNoAnchors)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Trade-offs: KLT window, pyramid levels, FAST threshold.
 void BM_TrackFrameOptions(benchmark::State& state) {

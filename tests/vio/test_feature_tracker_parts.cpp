@@ -102,6 +102,13 @@ TEST(FeatureTrackerOptions, YamlOverridesDefaultsAndRejectsUnknownKeys) {
   EXPECT_THROW(parseFeatureTrackerOptions("max_feature: 150\n", "fe.yaml"), data::InputError);
   EXPECT_THROW(parseFeatureTrackerOptions("max_features: 0\n", "fe.yaml"), data::InputError);
   EXPECT_THROW(parseFeatureTrackerOptions("fb_threshold_px: fast\n", "fe.yaml"), data::InputError);
+  const FeatureTrackerOptions a = parseFeatureTrackerOptions(
+      "anchor_alignment: false\nanchor_patch_half_px: 6\nanchor_min_zncc: 0.8\n", "fe.yaml");
+  EXPECT_FALSE(a.anchor_alignment);
+  EXPECT_EQ(a.anchor_patch_half_px, 6);
+  EXPECT_DOUBLE_EQ(a.anchor_min_zncc, 0.8);
+  EXPECT_THROW(parseFeatureTrackerOptions("anchor_patch_half_px: 1\n", "fe.yaml"), data::InputError);
+  EXPECT_THROW(parseFeatureTrackerOptions("anchor_max_scale: 0.5\n", "fe.yaml"), data::InputError);
   try {
     parseFeatureTrackerOptions("ransac: true\nklt_window_px: 1\n", "fe.yaml");
     FAIL();
