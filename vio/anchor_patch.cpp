@@ -79,8 +79,9 @@ AnchorPatch::Result AnchorPatch::align(const cv::Mat& image, const Eigen::Matrix
     for (const double cx : {-half_, half_})
       for (const double cy : {-half_, half_}) {
         const Eigen::Vector2d corner = res.position + res.A * Eigen::Vector2d(cx, cy);
-        if (!(corner.x() >= 0 && corner.y() >= 0 && corner.x() < image.cols - 1 &&
-              corner.y() < image.rows - 1))
+        // A 0.01 px margin: the loop below steps in float, the corners are checked in double.
+        if (!(corner.x() >= 0.01 && corner.y() >= 0.01 && corner.x() < image.cols - 1.01 &&
+              corner.y() < image.rows - 1.01))
           return res;
       }
     const float ax = static_cast<float>(res.A(0, 0)), ay = static_cast<float>(res.A(1, 0));
