@@ -25,6 +25,18 @@ Eigen::Matrix<double, 6, 1> steepestDescent(double gx, double gy, double x, doub
   return J;
 }
 
+// Subtracts the mean (sum / size) from every value; returns their standard deviation.
+double removeMean(std::vector<float>* values, double sum) {
+  const double n = static_cast<double>(values->size());
+  const float mean = static_cast<float>(sum / n);
+  double var = 0;
+  for (float& v : *values) {
+    v -= mean;
+    var += v * v;
+  }
+  return std::sqrt(var / n);
+}
+
 }  // namespace
 
 AnchorPatch::AnchorPatch(const cv::Mat& image, const Eigen::Vector2d& center, int half)
@@ -38,22 +50,16 @@ AnchorPatch::AnchorPatch(const cv::Mat& image, const Eigen::Vector2d& center, in
         return;
   const int n = (2 * half + 1) * (2 * half + 1);
   values_.resize(n), steepest_.resize(n);
-  double mean = 0;
+  double sum = 0;
   for (int r = 0, i = 0; r <= 2 * half; ++r)
     for (int c = 0; c <= 2 * half; ++c, ++i) {
       const int g = (r + 1) * w + (c + 1);
       values_[i] = grid[g];
       const double gx = 0.5 * (grid[g + 1] - grid[g - 1]), gy = 0.5 * (grid[g + w] - grid[g - w]);
       steepest_[i] = steepestDescent(gx, gy, c - half, r - half).cast<float>();
-      mean += grid[g];
+      sum += grid[g];
     }
-  mean /= n;
-  double var = 0;
-  for (float& v : values_) {
-    v -= static_cast<float>(mean);
-    var += v * v;
-  }
-  sigma_ = std::sqrt(var / n);
+  sigma_ = removeMean(&values_, sum);
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   for (const auto& J : steepest_) H.selfadjointView<Eigen::Lower>().rankUpdate(J.cast<double>());
   H = H.selfadjointView<Eigen::Lower>();
@@ -85,7 +91,7 @@ AnchorPatch::Result AnchorPatch::align(const cv::Mat& image, const Eigen::Matrix
           return res;
       }
     const float ax = static_cast<float>(res.A(0, 0)), ay = static_cast<float>(res.A(1, 0));
-    double mean = 0;
+    double sum = 0;
     for (int r = 0, i = 0; r <= 2 * half_; ++r) {
       const Eigen::Vector2d start = res.position + res.A * Eigen::Vector2d(-half_, r - half_);
       float x = static_cast<float>(start.x()), y = static_cast<float>(start.y());
@@ -95,16 +101,10 @@ AnchorPatch::Result AnchorPatch::align(const cv::Mat& image, const Eigen::Matrix
         const uchar* r0 = image.ptr<uchar>(y0) + x0;
         const uchar* r1 = r0 + image.step[0];
         warped[i] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
-        mean += warped[i];
+        sum += warped[i];
       }
     }
-    mean /= n;
-    double var = 0;
-    for (float& v : warped) {
-      v -= static_cast<float>(mean);
-      var += v * v;
-    }
-    const double sigma = std::sqrt(var / n);
+    const double sigma = removeMean(&warped, sum);
     if (sigma < 1e-3) return res;
     const double gain = sigma_ / sigma;
     Eigen::Matrix<float, 6, 1> b = Eigen::Matrix<float, 6, 1>::Zero();

@@ -221,7 +221,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
     }
     const int i = src[k];
     if (options_.anchor_alignment) {
-      Anchor anchor = anchors_[i];
+      Anchor anchor = std::move(anchors_[i]);  // anchors_ is replaced after this frame
       const cv::Point2f klt = cur[k];
       refineWithAnchor(image, &cur[k], &anchor);
       if (cur[k] != klt) cur_norm[k] = camera_.pixelToNormalized({cur[k].x, cur[k].y});
