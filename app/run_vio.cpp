@@ -132,6 +132,7 @@ void runVio(const VioRunArgs& a) {
         << "keyframes: " << es.keyframes << "\n"
         << "resets: " << es.resets << "\n"
         << "frames_without_imu: " << es.frames_without_imu << "\n"
+        << "outliers_rejected: " << es.outliers_rejected << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
         << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - first_t) : -1.0)
         << "\n";

@@ -13,7 +13,7 @@ rm -rf "$out"
 mkdir -p "$out"
 
 echo "== 1/3 generating a 30 s synthetic room sequence, people walking close past the camera (adugs sim)"
-"$adugs" sim --scene room --level high --seed 7 --duration 30 --out "$out/sequence"
+"$adugs" sim --scene room --level high --seed 6 --duration 30 --out "$out/sequence"
 
 echo "== 2/3 VIO without dynamic masking (adugs run --mask none)"
 "$adugs" run "$out/sequence" --config data/config/sim.yaml --mask none --out "$out/run_unmasked"

@@ -18,6 +18,11 @@ struct EstimatorOptions {
   int keyframe_min_tracked = 30;     // fewer common features also makes a keyframe
   double pixel_sigma = 1.5;          // reprojection standard deviation [px]
   double huber_px = 1.0;             // robust loss threshold, in sigmas
+  // After each solve a landmark whose mean reprojection error over its non-host observations
+  // exceeds this many pixels is removed and its feature id ignored while it stays tracked
+  // (VINS-Mono's outliersRejection, same 3 px). Only landmarks seen in at least 3 frames are
+  // judged. 0 turns it off.
+  double outlier_reprojection_px = 3.0;
   int max_iterations = 8;
   double max_solver_time_s = 0.2;  // a guard only; when it triggers, results depend on machine load
   double min_depth_m = 0.1, max_depth_m = 80.0;

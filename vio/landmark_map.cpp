@@ -7,11 +7,22 @@
 namespace adugs::vio {
 
 void LandmarkMap::addFrame(int frame, const FrameFeatures& f) {
+  std::set<int64_t> still_rejected;
   for (size_t k = 0; k < f.size(); ++k) {
+    if (rejected_.count(f.ids[k])) {
+      still_rejected.insert(f.ids[k]);
+      continue;
+    }
     Landmark& l = landmarks_[f.ids[k]];
     l.id = f.ids[k];
     l.observations.push_back({frame, f.normalized[k], f.velocities[k]});
   }
+  rejected_.swap(still_rejected);
+}
+
+void LandmarkMap::reject(int64_t id) {
+  landmarks_.erase(id);
+  rejected_.insert(id);
 }
 
 double LandmarkMap::meanParallax(int frame_a, int frame_b, int* common) const {

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "vio/feature_tracker.h"
@@ -29,8 +30,14 @@ struct Landmark {
 
 class LandmarkMap {
  public:
-  // Records the features of the frame at window index `frame`.
+  // Records the features of the frame at window index `frame`, except rejected ones.
   void addFrame(int frame, const FrameFeatures& features);
+
+  // Erases an outlier landmark and ignores its feature id in later frames for as long as the
+  // tracker keeps reporting it (the set forgets an id at the first frame without it, so it stays
+  // no larger than one frame's features).
+  void reject(int64_t id);
+  bool isRejected(int64_t id) const { return rejected_.count(id) > 0; }
 
   // Mean displacement (normalised units) of the features seen in both frames, and how many.
   double meanParallax(int frame_a, int frame_b, int* common = nullptr) const;
@@ -55,13 +62,17 @@ class LandmarkMap {
   Eigen::Vector3d worldPoint(const Landmark& l, const std::vector<Eigen::Isometry3d>& T_W_C) const;
 
   void erase(int64_t id) { landmarks_.erase(id); }
-  void clear() { landmarks_.clear(); }
+  void clear() {
+    landmarks_.clear();
+    rejected_.clear();
+  }
   std::map<int64_t, Landmark>& landmarks() { return landmarks_; }
   const std::map<int64_t, Landmark>& landmarks() const { return landmarks_; }
   int size() const { return static_cast<int>(landmarks_.size()); }
 
  private:
   std::map<int64_t, Landmark> landmarks_;
+  std::set<int64_t> rejected_;
 };
 
 // Linear (DLT) triangulation of one point from normalised observations and camera poses T_W_C:

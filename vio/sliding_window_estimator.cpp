@@ -329,6 +329,7 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     landmarks_.triangulate(cameraPoses(), options_.min_depth_m, options_.max_depth_m,
                            options_.min_triangulation_angle_deg * M_PI / 180.0);
   solve();
+  rejectOutliers();
 
   std::string why;
   if (!frames_.back()->stationary &&
@@ -456,6 +457,32 @@ void SlidingWindowEstimator::solve() {
     ++it;
   }
   stats_.solve_ms.push_back(msSince(t0));
+}
+
+void SlidingWindowEstimator::rejectOutliers() {
+  if (options_.outlier_reprojection_px <= 0) return;
+  // A feature the tracker followed off its 3-D point (a depth edge, a repeated texture, a mover
+  // outside the mask) pulls the window through the robust loss; with fewer than 3 frames its
+  // depth alone absorbs the error, so it cannot be judged.
+  const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
+  const double px_per_residual = focal_px_ / sqrt_info;
+  std::vector<int64_t> outliers;
+  for (auto& [id, l] : landmarks_.landmarks()) {
+    if (!l.has_depth || l.observations.size() < 3) continue;
+    double sum_px = 0;
+    for (size_t k = 1; k < l.observations.size(); ++k) {
+      std::vector<double*> blocks;
+      const auto cost = reprojectionCost(l.observations.front(), l.observations[k], sqrt_info, l,
+                                         &blocks);
+      Eigen::Vector2d r;
+      if (!cost->Evaluate(blocks.data(), r.data(), nullptr)) r.setConstant(1e9);
+      sum_px += r.norm() * px_per_residual;
+    }
+    if (!(sum_px / (l.observations.size() - 1) <= options_.outlier_reprojection_px))
+      outliers.push_back(id);
+  }
+  for (int64_t id : outliers) landmarks_.reject(id);
+  stats_.outliers_rejected += static_cast<int>(outliers.size());
 }
 
 void SlidingWindowEstimator::removeGaugeDrift(const Eigen::Vector3d& p0_before,

@@ -57,6 +57,7 @@ struct EstimatorStats {
   std::string last_init_failure;
   int landmarks_in_last_solve = 0;
   int frames_without_imu = 0;  // skipped: no IMU sample within max_imu_gap_s of the frame
+  int outliers_rejected = 0;   // landmarks removed for their reprojection error
   std::vector<double> solve_ms, marginalization_ms;  // per solved frame
 };
 
@@ -123,6 +124,8 @@ class SlidingWindowEstimator {
   int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
   void solve();
+  // Removes landmarks whose mean reprojection error exceeds options_.outlier_reprojection_px.
+  void rejectOutliers();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);
   bool failureDetected(const Eigen::Vector3d& predicted_p, std::string* why) const;
   void reset(const std::string& why);

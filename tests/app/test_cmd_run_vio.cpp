@@ -183,6 +183,13 @@ TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
             2)
       << log;
   EXPECT_NE(log.find("time_offset_s"), std::string::npos) << log;
+  writeText(out / "outlier.yaml", "estimator:\n  outlier_reprojection_px: -1\n");
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
+                         (out / "outlier.yaml").string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("outlier_reprojection_px"), std::string::npos) << log;
 }
 
 }  // namespace

@@ -88,6 +88,25 @@ TEST(LandmarkMap, ParallaxAndFrameRemovalCarryTheDepthToTheNewHost) {
   EXPECT_EQ(map.landmarks().count(6), 0u);
 }
 
+// A rejected landmark is gone and its id is ignored while the tracker keeps reporting it; once a
+// frame comes without it the map forgets the id (ids are never reused, so the set stays small).
+TEST(LandmarkMap, RejectedIdsStayOutWhileTracked) {
+  LandmarkMap map;
+  map.addFrame(0, featuresOf(1, {1, 2}, {{0.1, 0.1}, {0.2, 0.2}}));
+  map.addFrame(1, featuresOf(2, {1, 2}, {{0.1, 0.1}, {0.2, 0.2}}));
+  map.reject(2);
+  EXPECT_EQ(map.size(), 1);
+  EXPECT_TRUE(map.isRejected(2));
+  map.addFrame(2, featuresOf(3, {1, 2}, {{0.1, 0.1}, {0.2, 0.2}}));
+  EXPECT_EQ(map.landmarks().count(2), 0u) << "a rejected id came back while still tracked";
+  EXPECT_EQ(map.landmarks().at(1).observations.size(), 3u);
+  map.addFrame(3, featuresOf(4, {1}, {{0.1, 0.1}}));
+  EXPECT_FALSE(map.isRejected(2)) << "the id left the tracker; the set should forget it";
+  map.reject(1);
+  map.clear();
+  EXPECT_FALSE(map.isRejected(1)) << "a reset starts with no rejected ids";
+}
+
 TEST(ZeroVelocityFactor, ResidualAndJacobian) {
   ZeroVelocityFactor f(0.01);
   double sb[9] = {0.02, -0.01, 0.005, 0.1, 0.2, 0.3, 0.01, 0.02, 0.03};

@@ -32,6 +32,7 @@ struct PipelineRun {
 struct PipelineSetup {
   EstimatorOptions options;
   std::optional<Eigen::Isometry3d> T_B_C;
+  std::function<void(FrameFeatures&)> edit_features;  // between tracker and estimator
 };
 
 // Plays an EuRoC folder through tracker + estimator. edit_image may change a frame's image
@@ -60,7 +61,9 @@ PipelineRun runPipeline(const std::string& root,
     }
     if (edit_image) edit_image(frame, m.frame.image);
     ++frame;
-    const auto state = estimator.addFrame(tracker.trackFrame(m.frame.t_ns, m.frame.image));
+    FrameFeatures features = tracker.trackFrame(m.frame.t_ns, m.frame.image);
+    if (setup.edit_features) setup.edit_features(features);
+    const auto state = estimator.addFrame(features);
     if (!state) continue;
     run.all_finite = run.all_finite && state->p_W_B.allFinite() &&
                      state->q_W_B.coeffs().allFinite() && state->v_W.allFinite();
@@ -131,7 +134,8 @@ TEST(SlidingWindowEstimator, StaticStreetTracksWithinOneAndAHalfPercent) {
   const EvalResult r = evaluate(run.trajectory, root);
   std::cout << "street/none 10 s: ATE " << r.ate.translation.rmse << " m over " << r.gt_length_m
             << " m\n";
-  // Measured 0.127 m over 11.4 m (1.1 %, mostly the initialisation transient of a 10 s run);
+  // Measured 0.158 m over 11.4 m (1.4 %; 0.159 m without outlier rejection), mostly the
+  // initialisation transient of a 10 s run;
   // doc/results.md has the 60 s figures.
   EXPECT_LT(r.ate.translation.rmse, 0.015 * r.gt_length_m);
   // The window is turned back to the oldest frame's yaw after every solve; without that, solves
@@ -241,6 +245,41 @@ TEST(SlidingWindowEstimator, OnlineTimeOffsetRecoversAFiveMillisecondShift) {
             << ate_fixed << " m (td fixed at 0) -> " << r.ate.translation.rmse << " m\n";
   EXPECT_NEAR(run.time_offset_s, 0.005, 0.001);
   EXPECT_LT(r.ate.translation.rmse, ate_fixed);
+}
+
+// One feature in five slides off its 3-D point by 1 px per frame (as a track caught on an
+// unmasked mover or a depth edge would). The robust loss alone lets them bend the window; the
+// reprojection-error rejection removes them and keeps their ids out while they stay tracked.
+TEST(SlidingWindowEstimator, RejectsLandmarksThatSlideOffTheirPoint) {
+  test::TempDir tmp("adugs_swe_outliers");
+  const std::string root = makeSequence(tmp, "none", 15.0);
+  const double fx = data::EurocReader(root).camera().fx;
+  PipelineSetup setup;
+  const PipelineRun clean = runPipeline(root, {}, {}, setup);
+  setup.edit_features = [fx](FrameFeatures& f) {
+    for (size_t k = 0; k < f.size(); ++k)
+      if (f.ids[k] % 5 == 0) f.normalized[k].x() += 1.0 * (f.track_counts[k] - 1) / fx;
+  };
+  const PipelineRun kept = [&] {
+    PipelineSetup off = setup;
+    off.options.outlier_reprojection_px = 0;
+    return runPipeline(root, {}, {}, off);
+  }();
+  const PipelineRun run = runPipeline(root, {}, {}, setup);
+  ASSERT_TRUE(run.all_finite);
+  EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+  EXPECT_EQ(kept.stats.outliers_rejected, 0);
+  const double ate_clean = evaluate(clean.trajectory, root).ate.translation.rmse;
+  const double ate_kept = evaluate(kept.trajectory, root).ate.translation.rmse;
+  const double ate = evaluate(run.trajectory, root).ate.translation.rmse;
+  std::cout << "sliding features: ATE " << ate_kept << " m kept, " << ate << " m rejected ("
+            << run.stats.outliers_rejected << " landmarks); clean " << ate_clean << " m ("
+            << clean.stats.outliers_rejected << " rejected)\n";
+  // Measured: 0.206 m kept, 0.066 m rejected (44 landmarks: a rejected id stays out while it is
+  // tracked, so each sliding track counts once), 0.120 m on the clean features.
+  EXPECT_GT(run.stats.outliers_rejected, 20);
+  EXPECT_LT(ate, 0.6 * ate_kept);
+  EXPECT_LT(ate, 1.5 * ate_clean);
 }
 
 // An estimate leaving +-max_time_offset_s means the window has gone wrong: the estimator resets,
