@@ -160,36 +160,24 @@ TEST_F(CmdRunVioSim, CorruptImageMidwayStopsWithTheFileNamedAndKeepsEarlierPoses
 
 TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
   TempDir out;
-  writeText(out / "bad.yaml", "estimator:\n  window_size: 2\n");
-  std::string log;
-  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
-                         (out / "bad.yaml").string() + " --out " + out.path().string(),
-                     &log),
-            2)
-      << log;
-  EXPECT_NE(log.find("window_size"), std::string::npos) << log;
-  writeText(out / "typo.yaml", "tracker:\n  max_featurs: 100\n");
-  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
-                         (out / "typo.yaml").string() + " --out " + out.path().string(),
-                     &log),
-            2)
-      << log;
-  EXPECT_NE(log.find("max_featurs"), std::string::npos) << log;
-  writeText(out / "offset.yaml",
-            "estimator:\n  estimate_time_offset: true\n  time_offset_s: 0.3\n");  // > max 0.1 s
-  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
-                         (out / "offset.yaml").string() + " --out " + out.path().string(),
-                     &log),
-            2)
-      << log;
-  EXPECT_NE(log.find("time_offset_s"), std::string::npos) << log;
-  writeText(out / "outlier.yaml", "estimator:\n  outlier_reprojection_px: -1\n");
-  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " +
-                         (out / "outlier.yaml").string() + " --out " + out.path().string(),
-                     &log),
-            2)
-      << log;
-  EXPECT_NE(log.find("outlier_reprojection_px"), std::string::npos) << log;
+  // Each config must stop `adugs run` with exit 2 and an error naming the offending key.
+  const auto expectRefused = [&](const std::string& name, const std::string& yaml,
+                                 const std::string& key) {
+    writeText(out / name, yaml);
+    std::string log;
+    EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --config " + (out / name).string() +
+                           " --out " + out.path().string(),
+                       &log),
+              2)
+        << name << ": " << log;
+    EXPECT_NE(log.find(key), std::string::npos) << name << ": " << log;
+  };
+  expectRefused("bad.yaml", "estimator:\n  window_size: 2\n", "window_size");
+  expectRefused("typo.yaml", "tracker:\n  max_featurs: 100\n", "max_featurs");
+  expectRefused("offset.yaml", "estimator:\n  estimate_time_offset: true\n  time_offset_s: 0.3\n",
+                "time_offset_s");  // > max 0.1 s
+  expectRefused("outlier.yaml", "estimator:\n  outlier_reprojection_px: -1\n",
+                "outlier_reprojection_px");
 }
 
 }  // namespace
