@@ -16,7 +16,7 @@
 #include "app/commands.h"
 #include "app/run_report.h"
 #include "app/run_vio.h"
-#include "data/euroc_reader.h"
+#include "data/dataset_preset.h"
 #include "data/input_error.h"
 #include "data/trajectory_io.h"
 #include "vio/imu_dead_reckoning.h"
@@ -26,26 +26,32 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-  std::string dataset = "euroc";
-  std::string path;
+  data::PlaybackOptions playback;
+  double start_s = 0, duration_s = 0, reorder_window_s = 0.1;
   std::string out_dir = "out/run";
   std::string estimator = "vio";
   std::string config_path;
   std::string mask = "none";
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
-  std::string gt_path;  // overrides mav0/state_groundtruth_estimate0/data.csv
-  bool skip_bad_frames = false;
   bool quiet = false;
 };
 
+data::PlaybackOptions playbackOptions(const RunArgs& a) {
+  data::PlaybackOptions o = a.playback;
+  o.start_ns = data::secToNs(a.start_s);
+  o.duration_ns = data::secToNs(a.duration_s);
+  o.reorder_window_ns = data::secToNs(a.reorder_window_s);
+  return o;
+}
+
 void runImuOnly(const RunArgs& a) {
-  data::EurocReaderOptions reader_options;
-  reader_options.skip_bad_frames = a.skip_bad_frames;
-  reader_options.load_images = false;  // the imu-only estimator does not look at images
-  data::EurocReader reader(a.path, reader_options);
-  const std::string gt_path = a.gt_path.empty() ? reader.groundTruthPath() : a.gt_path;
+  data::PlaybackOptions playback = playbackOptions(a);
+  playback.load_images = false;  // the imu-only estimator does not look at images
+  data::OpenedSequence sequence = data::openSequence(playback, a.out_dir);
+  data::SequenceSource& reader = *sequence.source;
+  const std::string gt_path = sequence.gt_path;
   if (gt_path.empty())
-    throw data::InputError(reader.mavDir(), 0, "state_groundtruth_estimate0",
+    throw data::InputError(a.playback.path, 0, "ground truth",
                            "the imu-only estimator starts from the ground-truth state, and this "
                            "sequence has no ground truth (give one with --gt)");
   const auto gt_states = data::readGroundTruthStates(gt_path);
@@ -77,7 +83,7 @@ void runImuOnly(const RunArgs& a) {
                 << std::flush;
   }
   writer.close();
-  stats.skipped_frames = reader.skippedFrames();
+  stats.skipped_frames = reader.counts().skipped_frames;
   stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   writeRunOutputs(a.out_dir, "imu-only", traj_path, gt_path, stats);
@@ -91,16 +97,14 @@ void runSequence(const RunArgs& a) {
     return;
   }
   VioRunArgs v;
-  v.path = a.path;
+  v.playback = playbackOptions(a);
   v.out_dir = a.out_dir;
-  v.gt_path = a.gt_path;
   v.config_path = a.config_path;
   v.mask = a.mask;
   v.detector_model = a.detector_model;
   v.segmenter = a.segmenter;
   v.sam_encoder = a.sam_encoder;
   v.sam_decoder = a.sam_decoder;
-  v.skip_bad_frames = a.skip_bad_frames;
   v.quiet = a.quiet;
   runVio(v);
 }
@@ -111,14 +115,42 @@ void registerRunCommand(CLI::App& root) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* cmd = root.add_subcommand(
       "run", "Run odometry on a recorded sequence; writes trajectory.tum, summary and evaluation");
-  cmd->add_option("--dataset", args->dataset, "sequence format")
-      ->check(CLI::IsMember({"euroc"}))
+  data::PlaybackOptions& p = args->playback;
+  cmd->add_option("--dataset", p.dataset,
+                  "sequence format and preset: euroc (ASL folder), tum-vi (folder), euroc-bag, "
+                  "viode, openloris (ROS1 bags), bag (any ROS1 bag: give topics and Kalibr files)")
+      ->check(CLI::IsMember(data::datasetPresetNames()))
       ->capture_default_str();
-  cmd->add_option("path", args->path, "sequence folder (EuRoC ASL: the folder holding mav0)")
+  cmd->add_option("path", p.path, "sequence folder (the folder holding mav0) or ROS1 bag file")
       ->required();
+  cmd->add_option("--kalibr-camchain", p.kalibr_camchain,
+                  "Kalibr camchain-imucam.yaml (cam0 intrinsics, T_cam_imu, timeshift_cam_imu); "
+                  "replaces the preset's or the folder's camera calibration")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--kalibr-imu", p.kalibr_imu, "Kalibr imu.yaml (noise densities, random walks)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--image-topic", p.topics.image, "bag: image topic (Image or CompressedImage)");
+  cmd->add_option("--imu-topic", p.topics.imu, "bag: sensor_msgs/Imu topic with both sensors");
+  cmd->add_option("--accel-topic", p.topics.accel,
+                  "bag: accelerometer topic (with --gyro-topic; united on the gyro stamps)");
+  cmd->add_option("--gyro-topic", p.topics.gyro, "bag: gyroscope topic (with --accel-topic)");
+  cmd->add_option("--gt-topic", p.gt_topic,
+                  "bag: ground truth topic (Odometry, PoseStamped, TransformStamped or /tf)");
+  cmd->add_option("--gt-parent-frame", p.gt_parent_frame, "bag: --gt-topic /tf: parent frame");
+  cmd->add_option("--gt-child-frame", p.gt_child_frame, "bag: --gt-topic /tf: child frame");
+  cmd->add_option("--reorder-window", args->reorder_window_s,
+                  "bag: seconds messages are held to be put in header.stamp order")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--start", args->start_s, "start this many seconds into the sequence")
+      ->check(CLI::Range(0.0, 1e9));
+  cmd->add_option("--duration", args->duration_s, "play this many seconds (0: to the end)")
+      ->check(CLI::Range(0.0, 1e9));
+  cmd->add_flag("--realtime", p.realtime, "pace the playback at sensor time");
   cmd->add_option("--out", args->out_dir, "output folder")->capture_default_str();
-  cmd->add_option("--gt", args->gt_path,
-                  "ground truth (EuRoC CSV or TUM) if not mav0/state_groundtruth_estimate0")
+  cmd->add_option("--gt", p.gt_path,
+                  "ground truth file (EuRoC CSV or TUM); default: the folder's "
+                  "state_groundtruth_estimate0 / mocap0, or the preset's ground-truth topic")
       ->check(CLI::ExistingFile);
   cmd->add_option("--estimator", args->estimator,
                   "vio: visual-inertial odometry; imu-only: IMU dead reckoning from the "
@@ -140,7 +172,7 @@ void registerRunCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: image encoder ONNX");
   cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: prompt decoder ONNX");
-  cmd->add_flag("--skip-bad-frames", args->skip_bad_frames,
+  cmd->add_flag("--skip-bad-frames", p.skip_bad_frames,
                 "skip missing or corrupt images with a warning instead of stopping");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress on stderr");
   cmd->callback([args] { runSequence(*args); });

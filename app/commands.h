@@ -5,6 +5,7 @@
 
 namespace adugs::app {
 
+void registerBagCommand(CLI::App& root);
 void registerCalibCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
 void registerRunCommand(CLI::App& root);

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   adugs::app::registerRunCommand(root);
   adugs::app::registerEvalCommand(root);
   adugs::app::registerCalibCommand(root);
+  adugs::app::registerBagCommand(root);
   adugs::app::registerSimCommand(root);
 
   try {

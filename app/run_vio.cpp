@@ -12,7 +12,6 @@
 #include "app/run_config.h"
 #include "app/run_report.h"
 #include "app/vio_frontend_stage.h"
-#include "data/euroc_reader.h"
 #include "data/trajectory_io.h"
 #include "vio/camera_model.h"
 #include "vio/sliding_window_estimator.h"
@@ -43,17 +42,17 @@ vio::ImuPreintegrationOptions imuOptions(const data::ImuNoise& noise) {
 
 void runVio(const VioRunArgs& a) {
   const RunConfig config = loadRunConfig(a.config_path);
-  data::EurocReaderOptions reader_options;
-  reader_options.skip_bad_frames = a.skip_bad_frames;
-  data::EurocReader reader(a.path, reader_options);
-  const std::string gt_path = a.gt_path.empty() ? reader.groundTruthPath() : a.gt_path;
+  data::OpenedSequence sequence = data::openSequence(a.playback, a.out_dir);
+  data::SequenceSource& source = *sequence.source;
+  const std::string& gt_path = sequence.gt_path;
 
-  const vio::CameraModel camera(reader.camera());
-  FrontEndStage front_end(reader, config.tracker, camera,
-                          {a.mask, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder});
+  const vio::CameraModel camera(sequence.camera);
+  FrontEndStage front_end(
+      source, config.tracker, camera, sequence.camera.T_B_C,
+      {a.mask, sequence.mask_dir, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder});
   const double focal = 0.5 * (camera.fx() + camera.fy());
-  vio::SlidingWindowEstimator estimator(config.estimator, focal, reader.camera().T_B_C,
-                                        imuOptions(reader.imuNoise()));
+  vio::SlidingWindowEstimator estimator(config.estimator, focal, sequence.camera.T_B_C,
+                                        imuOptions(sequence.imu_noise));
 
   fs::create_directories(a.out_dir);
   const std::string traj_path = (fs::path(a.out_dir) / "trajectory.tum").string();
@@ -120,14 +119,21 @@ void runVio(const VioRunArgs& a) {
   if (front_end_error) std::rethrow_exception(front_end_error);
   writer.close();
   stats.imu_samples = front_end.imuSamples();
-  stats.skipped_frames = reader.skippedFrames();
+  const data::SourceCounts counts = source.counts();
+  stats.skipped_frames = counts.skipped_frames;
   stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
   const vio::EstimatorStats& es = estimator.stats();
   const int64_t first_t = front_end.firstTimeNs();
   std::ostringstream extra;
-  extra << "mask: " << a.mask << "\n"
+  extra << "source: \"" << source.description() << "\"\n"
+        << "calibration: \"" << sequence.calibration_from << "\"\n"
+        << "late_messages_dropped: " << counts.late_dropped << "\n"
+        << "imu_samples_dropped: " << counts.imu_dropped << "\n"
+        << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
+        << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
+        << "mask: " << a.mask << "\n"
         << "threads: 2 (front-end, estimator)\n"
         << "keyframes: " << es.keyframes << "\n"
         << "resets: " << es.resets << "\n"
@@ -138,7 +144,7 @@ void runVio(const VioRunArgs& a) {
         << "\n";
   {
     const Eigen::Isometry3d& T = estimator.extrinsic();
-    const Eigen::Isometry3d& T0 = reader.camera().T_B_C;
+    const Eigen::Isometry3d& T0 = sequence.camera.T_B_C;
     const Eigen::Quaterniond q(T.rotation());
     extra << "extrinsic_estimated: " << (config.estimator.estimate_extrinsic ? "true" : "false")
           << "\n"

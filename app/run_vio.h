@@ -1,16 +1,18 @@
 #pragma once
-// `adugs run --estimator vio`: EuRoC playback through the front-end (KLT + masked features) and
+// `adugs run --estimator vio`: playback (any SequenceSource) through the front-end (KLT + masked features) and
 // the sliding-window visual-inertial estimator, one TUM pose per estimated frame (flushed).
 #include <string>
+
+#include "data/dataset_preset.h"
 
 namespace adugs::app {
 
 struct VioRunArgs {
-  std::string path, out_dir, gt_path, config_path;
+  data::PlaybackOptions playback;  // what to play back (dataset preset, path, topics, calibration)
+  std::string out_dir, config_path;
   std::string mask = "none";  // none | gt (the simulator's mask0/ folder) | detector
   // --mask detector: YOLOX ONNX model, box segmenter (grabcut | box | mobilesam + its two ONNX).
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
-  bool skip_bad_frames = false;
   bool quiet = false;
 };
 

@@ -18,9 +18,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // The simulator's ground-truth mask of a frame: mav0/mask0/data/<image file name>.
-cv::Mat loadGroundTruthMask(const std::string& mav_dir, const data::Frame& frame) {
-  const std::string path =
-      (fs::path(mav_dir) / "mask0" / "data" / fs::path(frame.path).filename()).string();
+cv::Mat loadGroundTruthMask(const std::string& mask_dir, const data::Frame& frame) {
+  const std::string path = (fs::path(mask_dir) / fs::path(frame.path).filename()).string();
   cv::Mat mask = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (mask.empty())
     throw data::InputError(path, 0, "mask", "missing or unreadable dynamic mask (--mask gt)");
@@ -34,13 +33,15 @@ cv::Mat loadGroundTruthMask(const std::string& mav_dir, const data::Frame& frame
 
 }  // namespace
 
-FrontEndStage::FrontEndStage(data::EurocReader& reader,
+FrontEndStage::FrontEndStage(data::SequenceSource& source,
                              const vio::FeatureTrackerOptions& tracker_options,
-                             const vio::CameraModel& camera, const FrontEndStageOptions& options)
-    : reader_(reader),
-      tracker_(tracker_options, camera),
-      R_B_C_(reader.camera().T_B_C.rotation()),
-      options_(options) {
+                             const vio::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
+                             const FrontEndStageOptions& options)
+    : source_(source), tracker_(tracker_options, camera), R_B_C_(T_B_C.rotation()), options_(options) {
+  if (options_.mask == "gt" && options_.mask_dir.empty())
+    throw data::InputError("--mask", 0, "mask",
+                           "--mask gt needs the simulator's mav0/mask0/data folder, which this "
+                           "sequence does not have");
   // The dynamic-object stage of the paper: detector -> SORT -> box segmentation -> refinement.
   if (options_.mask == "detector") {
     if (options_.detector_model.empty())
@@ -56,7 +57,7 @@ FrontEndStage::FrontEndStage(data::EurocReader& reader,
 FrontEndStage::~FrontEndStage() = default;
 
 cv::Mat FrontEndStage::makeMask(const data::Frame& frame, TrackedFrame* out) {
-  if (options_.mask == "gt") return loadGroundTruthMask(reader_.mavDir(), frame);
+  if (options_.mask == "gt") return loadGroundTruthMask(options_.mask_dir, frame);
   if (!masker_) return {};
   const auto t0 = std::chrono::steady_clock::now();
   const tracking::DynamicMaskResult r =
@@ -71,7 +72,7 @@ void FrontEndStage::run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>&
   int64_t previous_frame_t = -1;
   int frame_index = 0;
   TrackedFrame out;
-  while (reader_.next(m)) {
+  while (source_.next(m)) {
     if (first_t_ < 0) first_t_ = m.timeNs();
     if (m.isImu()) {
       ++imu_samples_;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "app/pipeline_channel.h"
-#include "data/euroc_reader.h"
+#include "data/sequence_source.h"
 #include "vio/feature_tracker.h"
 #include "vio/gyro_rotation_predictor.h"
 
@@ -36,13 +36,16 @@ struct TrackedFrame {
 
 struct FrontEndStageOptions {
   std::string mask = "none";  // none | gt | detector
+  std::string mask_dir;       // --mask gt: the simulator's mask0/data folder
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
 };
 
 class FrontEndStage {
  public:
-  FrontEndStage(data::EurocReader& reader, const vio::FeatureTrackerOptions& tracker_options,
-                const vio::CameraModel& camera, const FrontEndStageOptions& options);
+  // T_B_C: the camera's extrinsic (its rotation turns gyro rotations into camera rotations).
+  FrontEndStage(data::SequenceSource& source, const vio::FeatureTrackerOptions& tracker_options,
+                const vio::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
+                const FrontEndStageOptions& options);
   ~FrontEndStage();
 
   // Runs to the end of the sequence, then closes `frames`. Stops early (without error) when
@@ -55,7 +58,7 @@ class FrontEndStage {
  private:
   cv::Mat makeMask(const data::Frame& frame, TrackedFrame* out);
 
-  data::EurocReader& reader_;
+  data::SequenceSource& source_;
   vio::FeatureTracker tracker_;
   Eigen::Matrix3d R_B_C_;
   FrontEndStageOptions options_;

@@ -34,7 +34,9 @@ void requireIncreasing(const CsvReader& csv, int64_t t, int64_t prev_t, long pre
 
 }  // namespace
 
-EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options) : options_(options) {
+EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options,
+                         EurocCalibrationOverride calibration)
+    : options_(options), image_time_shift_ns_(calibration.image_time_shift_ns) {
   fs::path root = requireDir(root_dir);
   std::error_code ec;
   fs::path mav = fs::is_directory(root / "mav0", ec) ? root / "mav0" : root;
@@ -44,8 +46,9 @@ EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options
   mav_dir_ = mav.string();
   fs::path cam = requireDir(mav / "cam0");
   fs::path imu = requireDir(mav / "imu0");
-  camera_ = readEurocCameraYaml(requireFile(cam / "sensor.yaml"));
-  imu_noise_ = readEurocImuYaml(requireFile(imu / "sensor.yaml"));
+  camera_ = calibration.camera ? *calibration.camera : readEurocCameraYaml(requireFile(cam / "sensor.yaml"));
+  imu_noise_ = calibration.imu_noise ? *calibration.imu_noise
+                                     : readEurocImuYaml(requireFile(imu / "sensor.yaml"));
   image_dir_ = requireDir(cam / "data").string();
 
   frame_csv_ = std::make_unique<CsvReader>(requireFile(cam / "data.csv"));
@@ -53,8 +56,10 @@ EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options
   imu_csv_ = std::make_unique<CsvReader>(requireFile(imu / "data.csv"));
   imu_csv_->setColumnNames({"timestamp", "w_x", "w_y", "w_z", "a_x", "a_y", "a_z"});
 
-  fs::path gt = mav / "state_groundtruth_estimate0" / "data.csv";
-  if (fs::is_regular_file(gt, ec)) ground_truth_path_ = gt.string();
+  for (const char* gt_dir : {"state_groundtruth_estimate0", "mocap0"}) {
+    const fs::path gt = mav / gt_dir / "data.csv";
+    if (ground_truth_path_.empty() && fs::is_regular_file(gt, ec)) ground_truth_path_ = gt.string();
+  }
 
   frame_pending_ = readFrameRow();
   if (!frame_pending_) throw InputError(frame_csv_->path(), 0, "", "no frames: the camera stream is empty");
@@ -63,6 +68,14 @@ EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options
 }
 
 EurocReader::~EurocReader() = default;
+
+SourceCounts EurocReader::counts() const {
+  SourceCounts c;
+  c.skipped_frames = skipped_frames_;
+  return c;
+}
+
+std::string EurocReader::description() const { return "ASL folder " + mav_dir_; }
 EurocReader::EurocReader(EurocReader&&) noexcept = default;
 EurocReader& EurocReader::operator=(EurocReader&&) noexcept = default;
 
@@ -95,7 +108,7 @@ bool EurocReader::readImuRow() {
 }
 
 bool EurocReader::loadFrame(Frame& f) {
-  f.t_ns = frame_t_ns_;
+  f.t_ns = frame_t_ns_ + image_time_shift_ns_;
   f.path = (fs::path(image_dir_) / frame_file_).string();
   f.image.release();
   std::string problem;
@@ -120,7 +133,7 @@ bool EurocReader::loadFrame(Frame& f) {
   if (options_.load_images && (f.image.cols != camera_.width || f.image.rows != camera_.height)) {
     throw InputError(frame_csv_->path(), frame_line_, "filename",
                      "image '" + f.path + "' is " + std::to_string(f.image.cols) + "x" +
-                         std::to_string(f.image.rows) + " but cam0/sensor.yaml resolution is " +
+                         std::to_string(f.image.rows) + " but the camera calibration's resolution is " +
                          std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
   }
   return true;
@@ -152,7 +165,7 @@ bool EurocReader::nextMeasurement(Measurement& m) {
   while (true) {
     if (error_) throw *error_;  // a read-ahead failed (e.g. after a skipped frame)
     if (!frame_pending_ && !imu_pending_) break;
-    if (imu_pending_ && (!frame_pending_ || imu_.t_ns <= frame_t_ns_)) {
+    if (imu_pending_ && (!frame_pending_ || imu_.t_ns <= frame_t_ns_ + image_time_shift_ns_)) {
       m.type = Measurement::Type::kImu;
       m.imu = imu_;
       m.frame = Frame();

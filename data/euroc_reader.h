@@ -2,7 +2,10 @@
 // Streaming reader for EuRoC ASL sequences:
 //   root/mav0/cam0/data.csv (#timestamp [ns],filename), cam0/data/*.png, cam0/sensor.yaml
 //   root/mav0/imu0/data.csv (#timestamp [ns],w_x,w_y,w_z,a_x,a_y,a_z), imu0/sensor.yaml
-//   root/mav0/state_groundtruth_estimate0/data.csv (optional; only its path is reported)
+//   root/mav0/state_groundtruth_estimate0/data.csv, or mav0/mocap0/data.csv as TUM-VI has it
+//   (optional; only its path is reported)
+// TUM-VI folders have this layout too; their 16-bit PNGs (the `_16` sets) are read as 8-bit grey
+// (the upper 8 bits), which is what the front-end uses.
 // `root` may also be the mav0 folder itself.
 //
 // Streaming: only one pending row of each CSV is held; next() returns the earlier of the two
@@ -31,43 +34,40 @@
 
 #include "data/euroc_sensor_yaml.h"
 #include "data/input_error.h"
+#include "data/sequence_source.h"
 #include "data/types.h"
 
 namespace adugs::data {
 
 class CsvReader;
 
-struct Frame {
-  int64_t t_ns = 0;
-  std::string path;  // the image file
-  cv::Mat image;     // CV_8UC1; empty when load_images is false
-};
-
-struct Measurement {
-  enum class Type { kImu, kFrame };
-  Type type = Type::kImu;
-  ImuSample imu;  // valid when type == kImu
-  Frame frame;    // valid when type == kFrame
-  bool isImu() const { return type == Type::kImu; }
-  bool isFrame() const { return type == Type::kFrame; }
-  int64_t timeNs() const { return isImu() ? imu.t_ns : frame.t_ns; }
-};
-
 struct EurocReaderOptions {
   bool skip_bad_frames = false;
   bool load_images = true;
 };
 
-class EurocReader {
+// Calibration given by the caller (e.g. from Kalibr files): the corresponding sensor.yaml is then
+// not needed (TUM-VI folders and many user recordings have none) and not read. Kalibr's
+// timeshift_cam_imu is applied to the image timestamps (t_imu = t_cam + shift).
+struct EurocCalibrationOverride {
+  std::optional<CameraCalibration> camera;
+  std::optional<ImuNoise> imu_noise;
+  int64_t image_time_shift_ns = 0;
+};
+
+class EurocReader : public SequenceSource {
  public:
   // Opens the sequence, reads both sensor.yaml files and the first row of each CSV.
-  explicit EurocReader(const std::string& root_dir, EurocReaderOptions options = {});
-  ~EurocReader();
+  explicit EurocReader(const std::string& root_dir, EurocReaderOptions options = {},
+                       EurocCalibrationOverride calibration = {});
+  ~EurocReader() override;
   EurocReader(EurocReader&&) noexcept;
   EurocReader& operator=(EurocReader&&) noexcept;
 
   // The next measurement in timestamp order; false at the end of both streams.
-  bool next(Measurement& m);
+  bool next(Measurement& m) override;
+  SourceCounts counts() const override;
+  std::string description() const override;
 
   const CameraCalibration& camera() const { return camera_; }
   const ImuNoise& imuNoise() const { return imu_noise_; }
@@ -85,6 +85,7 @@ class EurocReader {
   bool readAhead(F&& read);
 
   EurocReaderOptions options_;
+  int64_t image_time_shift_ns_ = 0;
   std::string mav_dir_, image_dir_, ground_truth_path_;
   CameraCalibration camera_;
   ImuNoise imu_noise_;

@@ -8,6 +8,23 @@
 #include "data/yaml_options.h"
 
 namespace adugs::data {
+
+Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m) {
+  Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
+  double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  double det = R.determinant();
+  double last = (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
+  if (!(ortho <= kRigidTolerance && std::fabs(det - 1) <= kRigidTolerance && last <= kRigidTolerance)) {
+    r.fail(key, "not a rigid transform (|R^T R - I| = " + detail::numberText(ortho) + ", det R = " +
+                    detail::numberText(det) + ", last row off by " + detail::numberText(last) +
+                    "; tolerance " + detail::numberText(kRigidTolerance) + ")");
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+  T.translation() = m.topRightCorner<3, 1>();
+  return T;
+}
+
 namespace {
 
 // The optional sensor_type and comment keys.
@@ -31,20 +48,7 @@ Eigen::Isometry3d readTransform(YamlOptionsReader& parent, const std::string& ke
   r.check(cols == 4, "cols", "expected 4, found " + std::to_string(cols));
   r.check(data.size() == 16, "data", "expected 16 numbers (4x4 row-major), found " + std::to_string(data.size()));
 
-  Eigen::Matrix4d m = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(data.data());
-  Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-  double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  double det = R.determinant();
-  double last = (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
-  if (!(ortho <= kRigidTolerance && std::fabs(det - 1) <= kRigidTolerance && last <= kRigidTolerance)) {
-    r.fail("data", "not a rigid transform (|R^T R - I| = " + detail::numberText(ortho) + ", det R = " +
-                       detail::numberText(det) + ", last row off by " + detail::numberText(last) +
-                       "; tolerance " + detail::numberText(kRigidTolerance) + ")");
-  }
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
-  T.translation() = m.topRightCorner<3, 1>();
-  return T;
+  return rigidTransform(r, "data", Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(data.data()));
 }
 
 void requirePositive(const YamlOptionsReader& r, const std::string& key, double v) {

@@ -43,6 +43,11 @@ struct ImuNoise {
 // Max |R^T R - I| entry, |det R - 1| and last-row deviation accepted for T_BS.
 constexpr double kRigidTolerance = 1e-5;
 
+class YamlOptionsReader;
+// The 4x4 matrix as a rigid transform (tolerance above, rotation re-orthonormalised); otherwise an
+// InputError naming r's file and `key`.
+Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m);
+
 // Read from a file; `source` names the text in error messages for the *String variants.
 CameraCalibration readEurocCameraYaml(const std::string& path);
 CameraCalibration parseEurocCameraYaml(const std::string& text, const std::string& source);

@@ -258,5 +258,17 @@ void YamlOptionsReader::convert(const Entry& e, std::vector<int>& out) const { c
 void YamlOptionsReader::convert(const Entry& e, std::vector<std::string>& out) const {
   convertList(e, out);
 }
+void YamlOptionsReader::convert(const Entry& e, std::vector<std::vector<double>>& out) const {
+  if (!e.value.IsSequence()) failAt(e.line, e.key, "expected a list of rows [[a, b], ...], found " + kindOf(e.value));
+  std::vector<std::vector<double>> rows;
+  for (const YAML::Node& row : e.value) {
+    const std::string name = e.key + "[" + std::to_string(rows.size()) + "]";
+    if (!row.IsSequence()) failAt(lineOf(row, e.line), name, "expected a row [a, b, ...], found " + kindOf(row));
+    Entry row_entry{name, row, lineOf(row, e.line), true};
+    rows.emplace_back();
+    convertList(row_entry, rows.back());
+  }
+  out = std::move(rows);
+}
 
 }  // namespace adugs::data

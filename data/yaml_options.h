@@ -57,7 +57,8 @@ class YamlOptionsReader {
   bool has(const std::string& key) const;
 
   // Reads the key into value and returns true; returns false and leaves value alone when absent.
-  // Supported T: bool, int, int64_t, double, float, std::string, std::vector<double|int|string>.
+  // Supported T: bool, int, int64_t, double, float, std::string, std::vector<double|int|string>,
+  // std::vector<std::vector<double>> (a matrix as a list of rows).
   template <typename T>
   bool optional(const std::string& key, T& value);
   // As above, then checks lo <= value <= hi (numbers only).
@@ -107,6 +108,7 @@ class YamlOptionsReader {
   void convert(const Entry& e, std::vector<double>& out) const;
   void convert(const Entry& e, std::vector<int>& out) const;
   void convert(const Entry& e, std::vector<std::string>& out) const;
+  void convert(const Entry& e, std::vector<std::vector<double>>& out) const;
   template <typename T>
   void convertScalar(const Entry& e, T& out) const;
   template <typename T>

@@ -6,6 +6,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 # -g1: line tables only, enough for file:line in sanitizer reports; full -g debug info of the
 # Eigen/Ceres-heavy code made this build much slower.
+# ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADUGS_SANITIZE=ON \
   -DADUGS_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 cmake --build build-asan -j"${ADUGS_JOBS:-2}"

@@ -23,6 +23,8 @@ else
 fi
 
 jobs="${ADUGS_JOBS:-2}"
+# ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 cmake --build build -j"$jobs"
 echo "setup: built into $root/build (adugs: build/app/adugs)" >&2

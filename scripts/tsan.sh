@@ -7,6 +7,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
+# ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DADUGS_TSAN=ON \
   -DADUGS_BUILD_BENCHMARKS=OFF
 cmake --build build-tsan -j"${ADUGS_JOBS:-2}" --target adugs

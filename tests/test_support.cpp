@@ -47,7 +47,17 @@ void writeText(const fs::path& file, const std::string& text) {
 }
 
 int runAdugs(const std::string& args, std::string* output) {
-  std::string cmd = std::string(ADUGS_BINARY) + " " + args + " 2>&1";
+  return runCommand(std::string(ADUGS_BINARY) + " " + args, output);
+}
+
+int writeTestBag(const std::string& args, std::string* output) {
+  return runCommand(std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
+                        "/tests/data/scripts/write_test_bag.py " + args,
+                    output);
+}
+
+int runCommand(const std::string& command, std::string* output) {
+  std::string cmd = command + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return -1;
   std::array<char, 4096> buf{};

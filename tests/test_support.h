@@ -33,7 +33,12 @@ class TempDir {
 // Writes text to a file (creating parent directories).
 void writeText(const std::filesystem::path& file, const std::string& text);
 
+// Runs a shell command; returns its exit code; stdout+stderr go to *output.
+int runCommand(const std::string& command, std::string* output);
 // Runs the built `adugs` binary with args; returns exit code; stdout+stderr go to *output.
 int runAdugs(const std::string& args, std::string* output);
+// Writes a ROS1 bag from an ASL folder with Debian's python3-rosbag
+// (tests/data/scripts/write_test_bag.py ARGS: ASL OUT.bag --layout ... [--compression ...]).
+int writeTestBag(const std::string& args, std::string* output);
 
 }  // namespace adugs::test

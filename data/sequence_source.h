@@ -1,0 +1,53 @@
+#pragma once
+// A recorded (or live) visual-inertial sequence as one time-ordered stream of measurements:
+// IMU samples and camera frames, streamed (nothing holds the whole sequence). `adugs run`
+// consumes this interface; each format is one implementation (EuRoC/TUM-VI folders, ROS1 bags).
+//
+// Contract of next(): measurements come in non-decreasing time, IMU first on equal timestamps;
+// frames carry a CV_8UC1 image unless the source was opened without image decoding. Bad input is
+// an InputError naming the file and field.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "data/types.h"
+
+namespace adugs::data {
+
+struct Frame {
+  int64_t t_ns = 0;
+  std::string path;  // the image file, or "" when the image came from a bag message
+  cv::Mat image;     // CV_8UC1; empty when images are not decoded
+};
+
+struct Measurement {
+  enum class Type { kImu, kFrame };
+  Type type = Type::kImu;
+  ImuSample imu;  // valid when type == kImu
+  Frame frame;    // valid when type == kFrame
+  bool isImu() const { return type == Type::kImu; }
+  bool isFrame() const { return type == Type::kFrame; }
+  int64_t timeNs() const { return isImu() ? imu.t_ns : frame.t_ns; }
+};
+
+// What a source left out, reported in the run summary.
+struct SourceCounts {
+  size_t skipped_frames = 0;   // missing / corrupt images skipped on request
+  size_t late_dropped = 0;     // messages whose stamp came after the reorder window had passed it
+  size_t imu_dropped = 0;      // IMU samples with a stamp equal to or before the previous one
+  size_t unmatched_gyro = 0;   // split IMU: gyro samples outside the accelerometer's time span
+};
+
+class SequenceSource {
+ public:
+  virtual ~SequenceSource() = default;
+  // The next measurement in time order; false at the end of the sequence.
+  virtual bool next(Measurement& m) = 0;
+  virtual SourceCounts counts() const = 0;
+  // One line for logs and the run summary, e.g. "ROS bag /x.bag (/cam0/image_raw, /imu0)".
+  virtual std::string description() const = 0;
+};
+
+}  // namespace adugs::data
