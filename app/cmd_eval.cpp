@@ -1,5 +1,5 @@
-// `adugs eval`: ATE and RPE of an estimated trajectory against ground truth (TUM or EuRoC CSV),
-// printed as a table, optionally saved as JSON and as a plot.
+// `adugs eval`: ATE, RPE and OpenLORIS' correct rate of an estimated trajectory against ground
+// truth (TUM or EuRoC CSV), printed as a table, optionally saved as JSON and as a plot.
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -28,6 +28,8 @@ struct EvalArgs {
   int align_frames = -1;
   double max_dt_s = 0.01;
   std::vector<double> rpe_lengths_m;
+  double cr_max_position_m = 1.0;
+  double cr_max_angle_deg = 30.0;
   std::string plot_path;
   std::string json_path;
 };
@@ -54,13 +56,22 @@ double rotationAngleDeg(const Eigen::Matrix3d& R) {
   return Eigen::AngleAxisd(R).angle() * 180.0 / EIGEN_PI;
 }
 
-std::string report(const EvalArgs& a, data::TrajectoryFormat est_format,
-                   data::TrajectoryFormat gt_format, const vio::EvalResult& r) {
+// " (N duplicate stamps dropped)" or nothing.
+std::string duplicatesNote(const data::TrajectoryReadInfo& info) {
+  if (info.duplicates_dropped == 0) return "";
+  return format(", %zu duplicate stamp%s dropped", info.duplicates_dropped,
+                info.duplicates_dropped == 1 ? "" : "s");
+}
+
+std::string report(const EvalArgs& a, const data::TrajectoryReadInfo& est_info,
+                   const data::TrajectoryReadInfo& gt_info, const vio::EvalResult& r) {
   std::string out = "adugs eval\n";
-  out += format("  estimate      %s  (%s, %zu poses)\n", a.est_path.c_str(),
-                data::trajectoryFormatName(est_format), r.est_poses);
-  out += format("  ground truth  %s  (%s, %zu poses)\n", a.gt_path.c_str(),
-                data::trajectoryFormatName(gt_format), r.gt_poses);
+  out += format("  estimate      %s  (%s, %zu poses%s)\n", a.est_path.c_str(),
+                data::trajectoryFormatName(est_info.format), r.est_poses,
+                duplicatesNote(est_info).c_str());
+  out += format("  ground truth  %s  (%s, %zu poses%s)\n", a.gt_path.c_str(),
+                data::trajectoryFormatName(gt_info.format), r.gt_poses,
+                duplicatesNote(gt_info).c_str());
   out += format("  matched       %zu pairs within %g s\n", r.pairs.size(), a.max_dt_s);
   const Eigen::Vector3d& t = r.T_G_E.t_G_E;
   if (r.align_mode == vio::AlignMode::kNone) {
@@ -81,6 +92,13 @@ std::string report(const EvalArgs& a, data::TrajectoryFormat est_format,
                 "min", "max", "count");
   out += statsRow("trans [m]", r.ate.translation);
   out += statsRow("rot [deg]", r.ate.rotation);
+
+  const vio::CorrectRateResult& cr = r.correct_rate;
+  out +=
+      format("\nCorrect rate (OpenLORIS: position error <= %g m and orientation error <= %g deg)\n",
+             a.cr_max_position_m, a.cr_max_angle_deg);
+  out += format("  CR %.4f: correct %.3f s of %.3f s, %zu of %zu matched poses correct\n",
+                cr.correct_rate, cr.correct_time_s, cr.span_s, cr.correct_poses, cr.poses);
 
   out += "\nRPE (relative pose error over ground-truth travelled distance)\n";
   if (r.rpe.empty()) {
@@ -128,14 +146,16 @@ std::string jsonStats(const vio::ErrorStats& s) {
          ", \"count\": " + std::to_string(s.count) + "}";
 }
 
-std::string json(const EvalArgs& a, const vio::EvalResult& r) {
+std::string json(const EvalArgs& a, const data::TrajectoryReadInfo& est_info,
+                 const data::TrajectoryReadInfo& gt_info, const vio::EvalResult& r) {
   std::ostringstream o;
   const Eigen::Matrix3d& R = r.T_G_E.R_G_E;
   const Eigen::Vector3d& t = r.T_G_E.t_G_E;
+  const vio::CorrectRateResult& cr = r.correct_rate;
   o << "{\n  \"estimate\": {\"path\": " << jsonString(a.est_path) << ", \"poses\": " << r.est_poses
-    << "},\n"
+    << ", \"duplicates_dropped\": " << est_info.duplicates_dropped << "},\n"
     << "  \"ground_truth\": {\"path\": " << jsonString(a.gt_path) << ", \"poses\": " << r.gt_poses
-    << "},\n"
+    << ", \"duplicates_dropped\": " << gt_info.duplicates_dropped << "},\n"
     << "  \"max_dt_s\": " << jsonNumber(a.max_dt_s) << ",\n  \"matched_pairs\": " << r.pairs.size()
     << ",\n"
     << "  \"alignment\": {\"mode\": \"" << vio::alignModeName(r.align_mode)
@@ -147,7 +167,13 @@ std::string json(const EvalArgs& a, const vio::EvalResult& r) {
   o << "],\n    \"t_G_E\": [" << jsonNumber(t.x()) << ", " << jsonNumber(t.y()) << ", "
     << jsonNumber(t.z()) << "]},\n  \"gt_length_m\": " << jsonNumber(r.gt_length_m) << ",\n"
     << "  \"ate\": {\"translation_m\": " << jsonStats(r.ate.translation)
-    << ",\n          \"rotation_deg\": " << jsonStats(r.ate.rotation) << "},\n  \"rpe\": [";
+    << ",\n          \"rotation_deg\": " << jsonStats(r.ate.rotation) << "},\n"
+    << "  \"correct_rate\": {\"cr\": " << jsonNumber(cr.correct_rate)
+    << ", \"correct_time_s\": " << jsonNumber(cr.correct_time_s)
+    << ", \"span_s\": " << jsonNumber(cr.span_s) << ", \"correct_poses\": " << cr.correct_poses
+    << ", \"poses\": " << cr.poses
+    << ",\n                   \"max_position_m\": " << jsonNumber(a.cr_max_position_m)
+    << ", \"max_angle_deg\": " << jsonNumber(a.cr_max_angle_deg) << "},\n  \"rpe\": [";
   for (size_t i = 0; i < r.rpe.size(); ++i) {
     const vio::RpeResult& s = r.rpe[i];
     o << (i ? "," : "") << "\n    {\"length_m\": " << jsonNumber(s.length_m)
@@ -160,16 +186,29 @@ std::string json(const EvalArgs& a, const vio::EvalResult& r) {
   return o.str();
 }
 
+// Warns on stderr about the poses the reader dropped for a repeated timestamp.
+void warnDuplicates(const std::string& path, const data::TrajectoryReadInfo& info) {
+  if (info.duplicates_dropped == 0) return;
+  std::cerr << "warning: " << path << ": " << info.duplicates_dropped << " pose"
+            << (info.duplicates_dropped == 1 ? "" : "s")
+            << " with the timestamp of the previous pose dropped (first at line "
+            << info.first_duplicate_line << "); the first pose of each timestamp is used\n";
+}
+
 void runEval(const EvalArgs& a) {
-  data::TrajectoryFormat est_format, gt_format;
-  const data::Trajectory est = data::readTrajectory(a.est_path, &est_format);
-  const data::Trajectory gt = data::readTrajectory(a.gt_path, &gt_format);
+  data::TrajectoryReadInfo est_info, gt_info;
+  const data::Trajectory est = data::readTrajectory(a.est_path, &est_info);
+  const data::Trajectory gt = data::readTrajectory(a.gt_path, &gt_info);
+  warnDuplicates(a.est_path, est_info);
+  warnDuplicates(a.gt_path, gt_info);
 
   vio::EvalOptions options;
   options.align = vio::parseAlignMode(a.align);  // already checked by CLI11
   options.align_frames = a.align_frames;
   options.max_dt_ns = data::secToNs(a.max_dt_s);
   options.rpe_lengths_m = a.rpe_lengths_m;
+  options.correct_rate.max_position_m = a.cr_max_position_m;
+  options.correct_rate.max_angle_deg = a.cr_max_angle_deg;
   vio::EvalResult result;
   try {
     result = vio::evaluateTrajectory(est, gt, options);
@@ -178,9 +217,9 @@ void runEval(const EvalArgs& a) {
                            std::string(e.what()) + " [ground truth: " + a.gt_path + "]");
   }
 
-  std::cout << report(a, est_format, gt_format, result) << std::flush;
+  std::cout << report(a, est_info, gt_info, result) << std::flush;
   if (!a.json_path.empty()) {
-    data::writeTextFileAtomically(a.json_path, json(a, result));
+    data::writeTextFileAtomically(a.json_path, json(a, est_info, gt_info, result));
     std::cout << "\nwrote " << a.json_path << "\n";
   }
   if (!a.plot_path.empty()) {
@@ -198,7 +237,8 @@ void registerEvalCommand(CLI::App& root) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd = root.add_subcommand(
       "eval",
-      "Trajectory error (ATE, RPE) of an estimate against ground truth, TUM or EuRoC CSV files");
+      "Trajectory error (ATE, RPE, OpenLORIS correct rate) of an estimate against ground truth, "
+      "TUM or EuRoC CSV files");
   cmd->add_option("--est", args->est_path,
                   "estimated trajectory (TUM: t tx ty tz qx qy qz qw, seconds)")
       ->required();
@@ -218,6 +258,14 @@ void registerEvalCommand(CLI::App& root) {
          "RPE segment lengths in metres, comma separated (default: 10,20,..,50 % of the path)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--cr-max-position-m", args->cr_max_position_m,
+                  "correct rate: max position error of a correct pose [m]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--cr-max-angle-deg", args->cr_max_angle_deg,
+                  "correct rate: max orientation error of a correct pose [deg]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--plot", args->plot_path,
                   "write a picture (PNG) of the aligned trajectories and errors");
   cmd->add_option("--json", args->json_path, "write all figures as JSON");

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/run_config.h"
 #include "app/run_report.h"
 #include "app/run_vio.h"
 #include "data/dataset_preset.h"
@@ -28,6 +29,7 @@ namespace fs = std::filesystem;
 struct RunArgs {
   data::PlaybackOptions playback;
   double start_s = 0, duration_s = 0, reorder_window_s = 0.1;
+  bool reorder_window_given = false;
   std::string out_dir = "out/run";
   std::string estimator = "vio";
   std::string config_path;
@@ -36,11 +38,14 @@ struct RunArgs {
   bool quiet = false;
 };
 
+// The command line's playback options over the config's `playback:` map over the preset.
 data::PlaybackOptions playbackOptions(const RunArgs& a) {
   data::PlaybackOptions o = a.playback;
   o.start_ns = data::secToNs(a.start_s);
   o.duration_ns = data::secToNs(a.duration_s);
   o.reorder_window_ns = data::secToNs(a.reorder_window_s);
+  if (!a.config_path.empty())
+    applyPlaybackConfig(loadRunConfig(a.config_path).playback, a.reorder_window_given, &o);
   return o;
 }
 
@@ -53,7 +58,8 @@ void runImuOnly(const RunArgs& a) {
   if (gt_path.empty())
     throw data::InputError(a.playback.path, 0, "ground truth",
                            "the imu-only estimator starts from the ground-truth state, and this "
-                           "sequence has no ground truth (give one with --gt)");
+                           "sequence has no ground truth (no mav0/state_groundtruth_estimate0 or "
+                           "mocap0, no ground-truth topic; give one with --gt)");
   const auto gt_states = data::readGroundTruthStates(gt_path);
 
   fs::create_directories(a.out_dir);
@@ -175,7 +181,11 @@ void registerRunCommand(CLI::App& root) {
   cmd->add_flag("--skip-bad-frames", p.skip_bad_frames,
                 "skip missing or corrupt images with a warning instead of stopping");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress on stderr");
-  cmd->callback([args] { runSequence(*args); });
+  CLI::Option* window = cmd->get_option("--reorder-window");
+  cmd->callback([args, window] {
+    args->reorder_window_given = window->count() > 0;
+    runSequence(*args);
+  });
 }
 
 }  // namespace adugs::app

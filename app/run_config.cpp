@@ -18,8 +18,41 @@ RunConfig loadRunConfig(const std::string& path) {
     vio::readEstimatorOptions(e, &c.estimator);
     e.finish();
   }
+  if (r.has("playback")) {
+    data::YamlOptionsReader p = r.child("playback");
+    data::PlaybackOptions& o = c.playback;
+    p.optional("image_topic", o.topics.image);
+    p.optional("imu_topic", o.topics.imu);
+    p.optional("accel_topic", o.topics.accel);
+    p.optional("gyro_topic", o.topics.gyro);
+    p.optional("gt_topic", o.gt_topic);
+    p.optional("gt_parent_frame", o.gt_parent_frame);
+    p.optional("gt_child_frame", o.gt_child_frame);
+    double window_s = data::nsToSec(o.reorder_window_ns);
+    p.optional("reorder_window_s", window_s, 0.0, 10.0);
+    o.reorder_window_ns = data::secToNs(window_s);
+    p.finish();
+  }
   r.finish();
   return c;
+}
+
+void applyPlaybackConfig(const data::PlaybackOptions& config, bool window_given, data::PlaybackOptions* o) {
+  auto fill = [](std::string& field, const std::string& value) {
+    if (field.empty()) field = value;
+  };
+  // One IMU topic or two: the command line's choice of layout wins as a whole.
+  const bool cli_imu = !o->topics.imu.empty() || !o->topics.accel.empty() || !o->topics.gyro.empty();
+  fill(o->topics.image, config.topics.image);
+  if (!cli_imu) {
+    o->topics.imu = config.topics.imu;
+    o->topics.accel = config.topics.accel;
+    o->topics.gyro = config.topics.gyro;
+  }
+  fill(o->gt_topic, config.gt_topic);
+  fill(o->gt_parent_frame, config.gt_parent_frame);
+  fill(o->gt_child_frame, config.gt_child_frame);
+  if (!window_given) o->reorder_window_ns = config.reorder_window_ns;
 }
 
 }  // namespace adugs::app

@@ -2,9 +2,13 @@
 // The configuration of `adugs run --config FILE` (data/config/*.yaml): one map per stage,
 //   tracker:   vio/feature_tracker_options.h keys
 //   estimator: vio/estimator_options.h keys (static_init:, init: nested)
+//   playback:  bag topics and the reorder window (image_topic, imu_topic, accel_topic,
+//              gyro_topic, gt_topic, gt_parent_frame, gt_child_frame, reorder_window_s); the
+//              command line's options win over these, these over the --dataset preset
 // Every key is optional; unknown keys and out-of-range values are errors naming file, line, key.
 #include <string>
 
+#include "data/dataset_preset.h"
 #include "vio/estimator_options.h"
 #include "vio/feature_tracker_options.h"
 
@@ -13,7 +17,11 @@ namespace adugs::app {
 struct RunConfig {
   vio::FeatureTrackerOptions tracker;
   vio::EstimatorOptions estimator;
+  data::PlaybackOptions playback;  // only the topic / frame / window fields are read
 };
+
+// Fills the playback fields the command line left empty (or at their default) from the config.
+void applyPlaybackConfig(const data::PlaybackOptions& config, bool window_given, data::PlaybackOptions* options);
 
 RunConfig loadRunConfig(const std::string& path);  // "" = defaults
 

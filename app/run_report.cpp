@@ -35,13 +35,25 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
 
   if (!gt_path.empty() && stats.poses >= 3) {
     const auto est = data::readTrajectory(trajectory_path);
-    const auto gt = data::readTrajectory(gt_path);
+    data::TrajectoryReadInfo gt_info;
+    const auto gt = data::readTrajectory(gt_path, &gt_info);
+    if (gt_info.duplicates_dropped > 0)
+      std::cout << "  warning     " << gt_path << ": " << gt_info.duplicates_dropped
+                << " ground-truth poses with a repeated timestamp dropped (first at line "
+                << gt_info.first_duplicate_line << ")\n";
     vio::EvalOptions options;
     options.align = vio::AlignMode::kSe3;
     const vio::EvalResult r = vio::evaluateTrajectory(est, gt, options);
+    const vio::CorrectRateResult& cr = r.correct_rate;
     summary << "ate_se3_rmse_m: " << r.ate.translation.rmse << "\n"
             << "ate_se3_max_m: " << r.ate.translation.max << "\n"
-            << "gt_length_m: " << r.gt_length_m << "\n";
+            << "ate_poses: " << r.ate.translation.count << "\n"
+            << "gt_length_m: " << r.gt_length_m << "\n"
+            << "correct_rate: " << cr.correct_rate << "\n"
+            << "correct_time_s: " << cr.correct_time_s << "\n"
+            << "correct_rate_thresholds: {max_position_m: " << options.correct_rate.max_position_m
+            << ", max_angle_deg: " << options.correct_rate.max_angle_deg << "}\n"
+            << "gt_duplicates_dropped: " << gt_info.duplicates_dropped << "\n";
     const std::string plot = (fs::path(out_dir) / "eval.png").string();
     vio::PlotOptions plot_options;
     plot_options.title = "adugs run (" + estimator + ")";
@@ -51,6 +63,11 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
                   "  ATE (se3)   RMSE %.4f m, max %.4f m over %zu poses, %.2f m travelled\n",
                   r.ate.translation.rmse, r.ate.translation.max, r.ate.translation.count,
                   r.gt_length_m);
+    std::cout << line;
+    std::snprintf(line, sizeof(line),
+                  "  CR          %.4f (correct %.2f s of %.2f s; <= %g m, <= %g deg, OpenLORIS)\n",
+                  cr.correct_rate, cr.correct_time_s, cr.span_s,
+                  options.correct_rate.max_position_m, options.correct_rate.max_angle_deg);
     std::cout << line << "  plot        " << plot << "\n";
   }
   const std::string summary_path = (fs::path(out_dir) / "summary.yaml").string();

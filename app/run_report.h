@@ -1,6 +1,7 @@
 #pragma once
 // What `adugs run` writes next to the trajectory: summary.yaml (counts, timing) and, when the
-// sequence has ground truth, the evaluation (ATE/RPE printed, eval.json, eval.png).
+// sequence has ground truth, the evaluation (ATE and OpenLORIS correct rate printed and in
+// summary.yaml, eval.png).
 #include <cstddef>
 #include <string>
 

@@ -7,6 +7,9 @@
 #include "data/kalibr_calibration.h"
 #include "data/playback_controls.h"
 #include "data/rosbag_ground_truth.h"
+#include <rosbag/bag.h>
+
+#include "data/rosbag_topics.h"
 #include "data/trajectory_io.h"
 
 namespace adugs::data {
@@ -17,19 +20,22 @@ struct Preset {
   const char* name;
   bool bag;
   RosbagTopics topics;
-  const char* gt_topic;
+  const char* gt_topic;  // used when the bag has it (a user's --gt-topic must exist)
+  const char* gt_parent;
+  const char* gt_child;
   const char* calibration;  // folder under data/config/presets, "" = the sequence's own files
 };
 
 const std::vector<Preset>& presets() {
   static const std::vector<Preset> table = {
-      {"euroc", false, {}, "", ""},
-      {"euroc-bag", true, {"/cam0/image_raw", "/imu0", "", ""}, "", "euroc"},
-      {"tum-vi", false, {}, "", "tum-vi"},
-      {"viode", true, {"/cam0/image_raw", "/imu0", "", ""}, "/odometry", "viode"},
-      {"openloris", true, {"/d400/color/image_raw", "", "/d400/accel/sample", "/d400/gyro/sample"}, "",
-       "openloris"},
-      {"bag", true, {}, "", ""},
+      {"euroc", false, {}, "", "", "", ""},
+      {"euroc-bag", true, {"/cam0/image_raw", "/imu0", "", ""}, "", "", "", "euroc"},
+      {"tum-vi", false, {}, "", "", "", "tum-vi"},
+      {"viode", true, {"/cam0/image_raw", "/imu0", "", ""}, "/odometry", "", "", "viode"},
+      // OpenLORIS: groundtruth.txt beside the bag, else the merged bags' /gt (gt_map -> base_link).
+      {"openloris", true, {"/d400/color/image_raw", "", "/d400/accel/sample", "/d400/gyro/sample"}, "/gt",
+       "gt_map", "base_link", "openloris"},
+      {"bag", true, {}, "", "", "", ""},
   };
   return table;
 }
@@ -134,19 +140,24 @@ OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, c
   ro.image_time_shift_ns = calib.camera->time_shift_ns;
   s.source = std::make_unique<RosbagSource>(o.path, ro);
 
-  const std::string gt_topic = pick(o.gt_topic, preset.gt_topic);
+  const fs::path beside = fs::path(o.path).parent_path() / "groundtruth.txt";
+  std::error_code ec;
+  BagGroundTruthOptions gt_options{o.gt_topic, o.gt_parent_frame, o.gt_child_frame};
+  if (gt_options.topic.empty() && *preset.gt_topic) {  // the preset's topic, if this bag has it
+    const auto bag = openBag(o.path);
+    if (listBagTopics(*bag).count(preset.gt_topic))
+      gt_options = {preset.gt_topic, pick(o.gt_parent_frame, preset.gt_parent), pick(o.gt_child_frame, preset.gt_child)};
+  }
   if (!o.gt_path.empty()) {
     s.gt_path = o.gt_path;
-  } else if (!gt_topic.empty()) {
-    const BagGroundTruth gt = readBagGroundTruth(o.path, {gt_topic, o.gt_parent_frame, o.gt_child_frame});
+  } else if (std::string(preset.name) == "openloris" && o.gt_topic.empty() && fs::is_regular_file(beside, ec)) {
+    s.gt_path = beside.string();
+  } else if (!gt_options.topic.empty()) {
+    const BagGroundTruth gt = readBagGroundTruth(o.path, gt_options);
     fs::create_directories(out_dir);
     s.gt_path = (fs::path(out_dir) / "groundtruth.tum").string();
     writeTumTrajectory(s.gt_path, gt.poses);
     s.gt_duplicates_dropped = gt.duplicates_dropped;
-  } else if (std::string(preset.name) == "openloris") {
-    const fs::path beside = fs::path(o.path).parent_path() / "groundtruth.txt";
-    std::error_code ec;
-    if (fs::is_regular_file(beside, ec)) s.gt_path = beside.string();
   }
   return s;
 }

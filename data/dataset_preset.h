@@ -8,7 +8,8 @@
 //              calibration: TUM-VI's published 512x512 equidistant cam0
 //   viode      VIODE bag: /cam0/image_raw (bgr8), /imu0, ground truth /odometry (nav_msgs/Odometry)
 //   openloris  OpenLORIS-Scene bag: /d400/color/image_raw, /d400/accel/sample + /d400/gyro/sample;
-//              ground truth: groundtruth.txt beside the bag (TUM), when present
+//              ground truth: groundtruth.txt beside the bag (TUM), else the bag's /gt
+//              (tf2 gt_map -> base_link) when it has one
 //   bag        any ROS1 bag: give the topics and the Kalibr files
 // The presets' calibration files are data/config/presets/NAME/{camchain-imucam,imu}.yaml, built
 // into the binary. Kalibr files given by the user replace them.

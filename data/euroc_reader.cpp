@@ -36,7 +36,9 @@ void requireIncreasing(const CsvReader& csv, int64_t t, int64_t prev_t, long pre
 
 EurocReader::EurocReader(const std::string& root_dir, EurocReaderOptions options,
                          EurocCalibrationOverride calibration)
-    : options_(options), image_time_shift_ns_(calibration.image_time_shift_ns) {
+    : options_(options),
+      image_time_shift_ns_(calibration.image_time_shift_ns),
+      calibration_source_(calibration.camera ? "the given camera calibration's" : "cam0/sensor.yaml") {
   fs::path root = requireDir(root_dir);
   std::error_code ec;
   fs::path mav = fs::is_directory(root / "mav0", ec) ? root / "mav0" : root;
@@ -133,7 +135,7 @@ bool EurocReader::loadFrame(Frame& f) {
   if (options_.load_images && (f.image.cols != camera_.width || f.image.rows != camera_.height)) {
     throw InputError(frame_csv_->path(), frame_line_, "filename",
                      "image '" + f.path + "' is " + std::to_string(f.image.cols) + "x" +
-                         std::to_string(f.image.rows) + " but the camera calibration's resolution is " +
+                         std::to_string(f.image.rows) + " but " + calibration_source_ + " resolution is " +
                          std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
   }
   return true;

@@ -86,6 +86,7 @@ class EurocReader : public SequenceSource {
 
   EurocReaderOptions options_;
   int64_t image_time_shift_ns_ = 0;
+  std::string calibration_source_;  // names the calibration in image-size errors
   std::string mav_dir_, image_dir_, ground_truth_path_;
   CameraCalibration camera_;
   ImuNoise imu_noise_;

@@ -114,9 +114,12 @@ void parseTumRow(const CsvReader& row, GroundTruthState* state) {
   state->has_velocity_and_biases = false;
 }
 
-std::vector<GroundTruthState> readStates(const std::string& path, TrajectoryFormat* format_out) {
+std::vector<GroundTruthState> readStates(const std::string& path, TrajectoryReadInfo* info) {
   const TrajectoryFormat format = detectTrajectoryFormat(path);
-  if (format_out) *format_out = format;
+  TrajectoryReadInfo local;
+  if (!info) info = &local;
+  *info = TrajectoryReadInfo{};
+  info->format = format;
   const bool euroc = format == TrajectoryFormat::kEurocCsv;
   CsvReader row(path, euroc ? CsvReader::Separator::kComma : CsvReader::Separator::kWhitespace);
   row.setColumnNames(euroc ? kEurocColumns : kTumColumns);
@@ -139,16 +142,15 @@ std::vector<GroundTruthState> readStates(const std::string& path, TrajectoryForm
     }
     if (!states.empty()) {
       int64_t previous = states.back().pose.t_ns;
-      if (state.pose.t_ns == previous)
-        throw InputError(path, row.lineNumber(), "timestamp",
-                         "duplicate timestamp " + std::to_string(state.pose.t_ns) +
-                             " ns (also at line " + std::to_string(previous_line) + ")");
+      if (state.pose.t_ns == previous) {  // keep the first pose of a stamp, drop and count this
+        if (info->duplicates_dropped++ == 0) info->first_duplicate_line = row.lineNumber();
+        continue;
+      }
       if (state.pose.t_ns < previous)
         throw InputError(path, row.lineNumber(), "timestamp",
                          "time goes backwards: " + std::to_string(state.pose.t_ns) + " ns after " +
                              std::to_string(previous) + " ns at line " +
-                             std::to_string(previous_line) +
-                             " (timestamps must be strictly increasing)");
+                             std::to_string(previous_line) + " (timestamps must be increasing)");
     }
     previous_line = row.lineNumber();
     states.push_back(state);
@@ -156,6 +158,13 @@ std::vector<GroundTruthState> readStates(const std::string& path, TrajectoryForm
   if (states.empty())
     throw InputError(path, 0, "", "no poses in file (empty, or only comments and a header)");
   return states;
+}
+
+Trajectory posesOf(const std::vector<GroundTruthState>& states) {
+  Trajectory trajectory;
+  trajectory.reserve(states.size());
+  for (const GroundTruthState& s : states) trajectory.push_back(s.pose);
+  return trajectory;
 }
 
 }  // namespace
@@ -171,15 +180,19 @@ TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
 }
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat* format) {
-  std::vector<GroundTruthState> states = readStates(path, format);
-  Trajectory trajectory;
-  trajectory.reserve(states.size());
-  for (const GroundTruthState& s : states) trajectory.push_back(s.pose);
+  TrajectoryReadInfo info;
+  Trajectory trajectory = posesOf(readStates(path, &info));
+  if (format) *format = info.format;
   return trajectory;
 }
 
-std::vector<GroundTruthState> readGroundTruthStates(const std::string& path) {
-  return readStates(path, nullptr);
+Trajectory readTrajectory(const std::string& path, TrajectoryReadInfo* info) {
+  return posesOf(readStates(path, info));
+}
+
+std::vector<GroundTruthState> readGroundTruthStates(const std::string& path,
+                                                    TrajectoryReadInfo* info) {
+  return readStates(path, info);
 }
 
 std::string formatTumLine(const StampedPose& pose) {

@@ -10,8 +10,12 @@
 // The first data line decides: a comma means EuRoC CSV, otherwise TUM. '#' lines and blank lines
 // are skipped; a first line whose first field starts with a letter is taken as a header.
 // Every pose is checked: finite values, quaternion norm within kQuaternionNormTolerance of 1
-// (then normalised), strictly increasing time, a consistent column count. Errors are InputError
-// naming the file, line and field.
+// (then normalised), increasing time, a consistent column count. Errors are InputError naming the
+// file, line and field.
+// Exact duplicate timestamps (the same nanosecond on consecutive poses, as in some published
+// third-party estimates) are accepted: the FIRST pose of each stamp is kept, the later ones are
+// dropped and counted in TrajectoryReadInfo. Time going backwards stays an error. So every
+// trajectory returned is strictly increasing in time.
 //
 // The writer produces TUM (what `evo` reads): seconds with 9 decimals (exact nanoseconds) and 17
 // significant digits for the values, flushed line by line so that a killed run keeps its poses.
@@ -31,15 +35,25 @@ constexpr double kQuaternionNormTolerance = 1e-2;
 // "EuRoC CSV" or "TUM".
 const char* trajectoryFormatName(TrajectoryFormat format);
 
+// What a reader saw besides the poses.
+struct TrajectoryReadInfo {
+  TrajectoryFormat format = TrajectoryFormat::kTum;
+  size_t duplicates_dropped = 0;  // poses dropped because their stamp equals the previous one
+  long first_duplicate_line = 0;  // file line of the first dropped pose (0: none)
+};
+
 // Looks at the first data line. Throws InputError if the file is missing or has no data line.
 TrajectoryFormat detectTrajectoryFormat(const std::string& path);
 
 // Reads the poses (T_W_B) of a trajectory file. `format`, if given, receives the detected format.
 // Throws InputError on any invalid content, and if the file holds no pose.
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat* format = nullptr);
+// The same, reporting the format and the dropped duplicates in *info (if not null).
+Trajectory readTrajectory(const std::string& path, TrajectoryReadInfo* info);
 
 // As readTrajectory, keeping velocity and biases when the file has them (17-column EuRoC CSV).
-std::vector<GroundTruthState> readGroundTruthStates(const std::string& path);
+std::vector<GroundTruthState> readGroundTruthStates(const std::string& path,
+                                                    TrajectoryReadInfo* info = nullptr);
 
 // One TUM line "t tx ty tz qx qy qz qw" (no newline), t = seconds with exactly 9 decimals.
 std::string formatTumLine(const StampedPose& pose);

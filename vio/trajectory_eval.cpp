@@ -48,6 +48,11 @@ EvalResult evaluateTrajectory(const data::Trajectory& est, const data::Trajector
   const std::vector<double> lengths =
       options.rpe_lengths_m.empty() ? defaultRpeLengths(r.gt_length_m) : options.rpe_lengths_m;
   r.rpe = computeRpe(r.est_aligned, r.gt_matched, lengths, options.rpe_length_tolerance);
+  std::vector<int64_t> est_t_ns;
+  est_t_ns.reserve(r.est_matched.size());
+  for (const data::StampedPose& pose : r.est_matched) est_t_ns.push_back(pose.t_ns);
+  r.correct_rate = computeCorrectRate(est_t_ns, r.ate.translation_m, r.ate.rotation_deg,
+                                      gt.front().t_ns, gt.back().t_ns, options.correct_rate);
   return r;
 }
 

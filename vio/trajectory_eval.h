@@ -1,11 +1,16 @@
 #pragma once
 // Whole evaluation of an estimated trajectory against ground truth, as `adugs eval` runs it:
-// associate by time -> align (se3 / sim3 / posyaw / none) -> ATE and RPE.
+// associate by time -> align (se3 / sim3 / posyaw / none) -> ATE, RPE and OpenLORIS' correct rate.
+// Only the part of the estimate that the ground truth covers is evaluated: an estimated pose is
+// used when a ground-truth pose lies within max_dt of it (no interpolation, no extrapolation), so
+// poses more than max_dt before the ground truth starts, after it ends, or inside a gap of it
+// (TUM-VI's mocap sees only the start and the end of most sequences) are left out of every figure.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "data/types.h"
+#include "vio/correct_rate.h"
 #include "vio/trajectory_alignment.h"
 #include "vio/trajectory_metrics.h"
 
@@ -17,6 +22,7 @@ struct EvalOptions {
   int align_frames = -1;              // align on the first N matched pairs; <= 0: all
   std::vector<double> rpe_lengths_m;  // empty: 10..50 % of the matched ground-truth path length
   double rpe_length_tolerance = 0.1;  // a segment's travelled distance within L * (1 +- this)
+  CorrectRateOptions correct_rate;    // thresholds of a correct pose (1 m, 30 deg)
 };
 
 struct EvalResult {
@@ -32,6 +38,7 @@ struct EvalResult {
   double gt_length_m = 0.0;  // path length of gt_matched
   AteResult ate;
   std::vector<RpeResult> rpe;
+  CorrectRateResult correct_rate;  // over the matched poses, times of the estimate
 };
 
 // Throws std::invalid_argument when nothing can be evaluated (no pair within max_dt, degenerate

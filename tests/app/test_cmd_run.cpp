@@ -29,6 +29,8 @@ TEST(CmdRun, ImuOnlyBaselineOnRealEurocMicroWritesTrajectorySummaryAndPlot) {
   std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("frames: 95"), std::string::npos) << text;
   EXPECT_NE(text.find("ate_se3_rmse_m:"), std::string::npos) << text;
+  EXPECT_NE(text.find("correct_rate: "), std::string::npos) << text;  // OpenLORIS CR
+  EXPECT_NE(log.find("  CR          "), std::string::npos) << log;
   // The first pose is the ground-truth state at the first frame (dead reckoning starts there).
   const auto gt_traj = data::readTrajectory(gt);
   EXPECT_LT((traj.front().p_W_B - gt_traj.front().p_W_B).norm(), 1e-3);

@@ -178,6 +178,56 @@ TEST(TrajectoryIo, RealEurocGroundTruth) {
   EXPECT_EQ(back.back().p_W_B, t.back().p_W_B);
 }
 
+TEST(TrajectoryIo, DuplicateTimestampsKeepTheFirstPose) {
+  // Two poses share 2.0 s (line 3 kept, line 4 dropped), three share 4.0 s (5 kept, 6 and 7
+  // dropped): 3 dropped, the first at line 4.
+  TempDir dir;
+  writeText(dir / "est.txt",
+            "# t tx ty tz qx qy qz qw\n"
+            "1.0 1 0 0 0 0 0 1\n"
+            "2.0 2 0 0 0 0 0 1\n"
+            "2.0 99 0 0 0 0 0 1\n"
+            "4.000000000 4 0 0 0 0 0 1\n"
+            "4.0 98 0 0 0 0 0 1\n"
+            "4 97 0 0 0 0 0 1\n"
+            "5.0 5 0 0 0 0 0 1\n");
+  TrajectoryReadInfo info;
+  const Trajectory t = readTrajectory((dir / "est.txt").string(), &info);
+  EXPECT_EQ(info.format, TrajectoryFormat::kTum);
+  EXPECT_EQ(info.duplicates_dropped, 3u);
+  EXPECT_EQ(info.first_duplicate_line, 4);
+  ASSERT_EQ(t.size(), 4u);
+  const double x[] = {1, 2, 4, 5};
+  for (size_t i = 0; i < t.size(); ++i) EXPECT_EQ(t[i].p_W_B.x(), x[i]) << i;
+  EXPECT_EQ(t[2].t_ns, 4'000'000'000LL);
+  // The plain API reads the same poses.
+  TrajectoryFormat format;
+  const Trajectory plain = readTrajectory((dir / "est.txt").string(), &format);
+  ASSERT_EQ(plain.size(), 4u);
+  EXPECT_EQ(plain[1].p_W_B.x(), 2.0);
+  EXPECT_EQ(format, TrajectoryFormat::kTum);
+
+  // EuRoC CSV ground truth with states, through both readers.
+  writeText(dir / "gt.csv", std::string(kEurocHeader) +
+                                "1000,1,2,3,1,0,0,0,0,0,0,0,0,0,0,0,0\n"
+                                "1000,7,7,7,1,0,0,0,9,9,9,0,0,0,0,0,0\n"
+                                "2000,4,5,6,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  const auto states = readGroundTruthStates((dir / "gt.csv").string(), &info);
+  EXPECT_EQ(info.format, TrajectoryFormat::kEurocCsv);
+  EXPECT_EQ(info.duplicates_dropped, 1u);
+  EXPECT_EQ(info.first_duplicate_line, 3);
+  ASSERT_EQ(states.size(), 2u);
+  EXPECT_EQ(states[0].pose.p_W_B.x(), 1.0);
+  EXPECT_EQ(states[0].v_W.x(), 0.0);
+  EXPECT_EQ(readGroundTruthStates((dir / "gt.csv").string()).size(), 2u);
+
+  // A clean file reports nothing.
+  writeText(dir / "clean.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n");
+  readTrajectory((dir / "clean.txt").string(), &info);
+  EXPECT_EQ(info.duplicates_dropped, 0u);
+  EXPECT_EQ(info.first_duplicate_line, 0);
+}
+
 // ---- bad input: each error names the file, the line and the field --------------------------
 
 TEST(TrajectoryIoErrors, MissingFile) {
@@ -233,15 +283,18 @@ TEST(TrajectoryIoErrors, NanAndInf) {
   EXPECT_NE(msg.find("field 'q_w'"), std::string::npos) << msg;
 }
 
-TEST(TrajectoryIoErrors, NonMonotonicAndDuplicateTimestamps) {
+TEST(TrajectoryIoErrors, NonMonotonicTimestamps) {
   TempDir dir;
   writeText(dir / "back.txt", "1.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n");
   std::string msg = expectError(dir / "back.txt", 3, "backwards");
   EXPECT_NE(msg.find("line 2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("field 'timestamp'"), std::string::npos) << msg;
-  writeText(dir / "dup.csv", "# header\n1000,1,2,3,1,0,0,0\n1000,1,2,3,1,0,0,0\n");
-  msg = expectError(dir / "dup.csv", 3, "duplicate timestamp 1000");
-  EXPECT_NE(msg.find("also at line 2"), std::string::npos) << msg;
+  // Backwards right after a dropped duplicate: located against the pose that was kept.
+  writeText(dir / "dup_back.csv",
+            "# header\n1000,1,2,3,1,0,0,0\n2000,1,2,3,1,0,0,0\n2000,1,2,3,1,0,0,0\n"
+            "1500,1,2,3,1,0,0,0\n");
+  msg = expectError(dir / "dup_back.csv", 5, "time goes backwards: 1500 ns after 2000 ns");
+  EXPECT_NE(msg.find("at line 3"), std::string::npos) << msg;
 }
 
 TEST(TrajectoryIoErrors, BadQuaternion) {

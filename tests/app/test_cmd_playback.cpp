@@ -1,0 +1,241 @@
+// End-to-end playback: `adugs run` on ROS1 bags written by the real rosbag library (python3-rosbag)
+// from a simulated sequence gives the trajectory of the same sequence played from its ASL folder;
+// TUM-VI folders (16-bit PNGs, mocap0 ground truth over part of the run); `adugs bag info`;
+// bad input ends with exit code 2 and a message naming the problem.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "data/trajectory_io.h"
+#include "tests/test_support.h"
+
+namespace adugs::test {
+namespace {
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+double summaryValue(const fs::path& summary, const std::string& key) {
+  const std::string text = readText(summary);
+  const size_t at = text.find("\n" + key + ": ");
+  if (at == std::string::npos) return -1;
+  return std::stod(text.substr(at + key.size() + 3));
+}
+
+// A 6 s simulated room (no moving objects), IMU at 400 Hz, and its VIODE / OpenLORIS bags.
+class CmdPlayback : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("adugs_playback");
+    std::string log;
+    ASSERT_EQ(runAdugs("sim --scene room --level none --seed 4 --duration 6 --imu-rate 400 --out " +
+                           (*dir_ / "asl").string(),
+                       &log),
+              0)
+        << log;
+    ASSERT_EQ(writeTestBag((*dir_ / "asl").string() + " " + bag("viode") + " --layout viode --kalibr-out " +
+                               (*dir_ / "kalibr").string(),
+                           &log),
+              0)
+        << log;
+    ASSERT_EQ(writeTestBag((*dir_ / "asl").string() + " " + bag("openloris") + " --layout openloris --compression bz2",
+                           &log),
+              0)
+        << log;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string bag(const std::string& name) { return (*dir_ / (name + ".bag")).string(); }
+  static std::string kalibr() {
+    return " --kalibr-camchain " + (*dir_ / "kalibr/camchain-imucam.yaml").string() + " --kalibr-imu " +
+           (*dir_ / "kalibr/imu.yaml").string();
+  }
+  static std::string asl() { return (*dir_ / "asl").string(); }
+  static std::string gtCsv() { return (*dir_ / "asl/mav0/state_groundtruth_estimate0/data.csv").string(); }
+  static TempDir* dir_;
+};
+TempDir* CmdPlayback::dir_ = nullptr;
+
+TEST_F(CmdPlayback, ViodeBagGivesTheTrajectoryOfTheAslFolder) {
+  TempDir out_asl, out_bag;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + asl() + kalibr() + " --out " + out_asl.path().string(), &log), 0) << log;
+  ASSERT_EQ(runAdugs("run -q --dataset viode " + bag("viode") + kalibr() + " --out " + out_bag.path().string(), &log),
+            0)
+      << log;
+  const std::string a = readText(out_asl / "trajectory.tum"), b = readText(out_bag / "trajectory.tum");
+  EXPECT_GT(data::readTrajectory((out_bag / "trajectory.tum").string()).size(), 80u);
+  EXPECT_EQ(a, b) << "same measurements, same poses";
+  // Ground truth from the bag's /odometry topic, written beside the trajectory and evaluated.
+  EXPECT_TRUE(fs::exists(out_bag / "groundtruth.tum"));
+  const double ate = summaryValue(out_bag / "summary.yaml", "ate_se3_rmse_m");
+  EXPECT_GT(ate, 0.0);
+  EXPECT_LT(ate, 0.1);
+  EXPECT_EQ(ate, summaryValue(out_asl / "summary.yaml", "ate_se3_rmse_m"));
+  EXPECT_EQ(summaryValue(out_bag / "summary.yaml", "late_messages_dropped"), 0.0);
+}
+
+TEST_F(CmdPlayback, OpenLorisBagWithSplitImuTracksAsWellAsTheFolder) {
+  TempDir out_asl, out_bag;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + asl() + kalibr() + " --out " + out_asl.path().string(), &log), 0) << log;
+  ASSERT_EQ(runAdugs("run -q --dataset openloris " + bag("openloris") + kalibr() + " --gt " + gtCsv() +
+                         " --out " + out_bag.path().string(),
+                     &log),
+            0)
+      << log;
+  const double folder = summaryValue(out_asl / "summary.yaml", "ate_se3_rmse_m");
+  const double split = summaryValue(out_bag / "summary.yaml", "ate_se3_rmse_m");
+  // The accelerometer was resampled to 250 Hz and interpolated back onto the gyro stamps: not the
+  // same input, so not the same poses, but the same quality.
+  EXPECT_GT(split, 0.0);
+  EXPECT_LT(split, 0.1);
+  EXPECT_LT(split, 2.0 * folder + 0.01) << "folder " << folder;
+  EXPECT_GT(summaryValue(out_bag / "summary.yaml", "unmatched_gyro_samples"), 0.0);
+}
+
+TEST_F(CmdPlayback, StartAndDurationPlayPartOfTheSequence) {
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q --estimator imu-only --dataset viode " + bag("viode") + kalibr() +
+                         " --start 2 --duration 3 --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const double frames = summaryValue(out / "summary.yaml", "frames");
+  EXPECT_GE(frames, 59.0);  // 3 s at 20 Hz
+  EXPECT_LE(frames, 61.0);
+  const auto traj = data::readTrajectory((out / "trajectory.tum").string());
+  const auto gt = data::readTrajectory(gtCsv());
+  EXPECT_NEAR(data::nsToSec(traj.front().t_ns - gt.front().t_ns), 2.0, 0.06);
+}
+
+TEST_F(CmdPlayback, TumViFolderWithPartialMocapAndSixteenBitImages) {
+  // The TUM-VI layout: mav0/cam0 with 16-bit PNGs and no sensor.yaml, imu0, mocap0/data.csv that
+  // covers only the first and last 2 s (as the motion capture room does for most sequences).
+  TempDir tum;
+  const fs::path mav = tum / "mav0", src = fs::path(asl()) / "mav0";
+  fs::create_directories(mav / "cam0/data");
+  fs::create_directories(mav / "imu0");
+  fs::create_directories(mav / "mocap0");
+  fs::copy_file(src / "cam0/data.csv", mav / "cam0/data.csv");
+  fs::copy_file(src / "imu0/data.csv", mav / "imu0/data.csv");
+  for (const auto& e : fs::directory_iterator(src / "cam0/data")) {
+    cv::Mat grey = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE), wide;
+    grey.convertTo(wide, CV_16U, 256.0);
+    cv::imwrite((mav / "cam0/data" / e.path().filename()).string(), wide);
+  }
+  const auto gt = data::readTrajectory(gtCsv());
+  std::ofstream mocap(mav / "mocap0/data.csv");
+  mocap << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  mocap.precision(17);
+  size_t kept = 0;
+  for (const auto& p : gt) {
+    const double t = data::nsToSec(p.t_ns - gt.front().t_ns);
+    if (t > 2.0 && t < 4.0) continue;
+    mocap << p.t_ns << "," << p.p_W_B.x() << "," << p.p_W_B.y() << "," << p.p_W_B.z() << "," << p.q_W_B.w()
+          << "," << p.q_W_B.x() << "," << p.q_W_B.y() << "," << p.q_W_B.z() << "\n";
+    ++kept;
+  }
+  mocap.close();
+
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q --dataset tum-vi " + tum.path().string() + kalibr() + " --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const double ate = summaryValue(out / "summary.yaml", "ate_se3_rmse_m");
+  EXPECT_GT(ate, 0.0);
+  EXPECT_LT(ate, 0.1);
+  const double poses = summaryValue(out / "summary.yaml", "poses");
+  const double matched = summaryValue(out / "summary.yaml", "ate_poses");
+  EXPECT_LT(matched, poses - 30) << "poses in the 2 s without motion capture are not evaluated";
+  EXPECT_GT(matched, 40.0);
+  (void)kept;
+
+  // Without the user's calibration the preset's TUM-VI camera (512x512) does not fit these images.
+  EXPECT_EQ(runAdugs("run -q --dataset tum-vi " + tum.path().string() + " --out " + out.path().string(), &log), 2);
+  EXPECT_NE(log.find("512x512"), std::string::npos) << log;
+}
+
+TEST_F(CmdPlayback, BadBagInputIsAnErrorNamingTheProblem) {
+  TempDir out;
+  std::string log;
+  // A generic bag needs a calibration.
+  EXPECT_EQ(runAdugs("run --dataset bag " + bag("viode") + " --out " + out.path().string(), &log), 2) << log;
+  EXPECT_NE(log.find("--kalibr-camchain"), std::string::npos) << log;
+  // Unknown topic: the message lists the bag's topics.
+  EXPECT_EQ(runAdugs("run --dataset viode " + bag("viode") + kalibr() + " --imu-topic /imu9 --out " +
+                         out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("'/imu9' is not in the bag"), std::string::npos) << log;
+  EXPECT_NE(log.find("/odometry (nav_msgs/Odometry)"), std::string::npos) << log;
+  // Split IMU with only one of the two topics.
+  EXPECT_EQ(runAdugs("run --dataset bag " + bag("openloris") + kalibr() +
+                         " --image-topic /d400/color/image_raw --accel-topic /d400/accel/sample --out " +
+                         out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("gyroscope"), std::string::npos) << log;
+}
+
+TEST_F(CmdPlayback, ConfigPlaybackMapSetsTopicsAndTheCommandLineWins) {
+  TempDir out;
+  const std::string config = (out / "run.yaml").string();
+  writeText(config, "playback:\n  imu_topic: /imu_from_config\n  reorder_window_s: 0.2\n");
+  std::string log;
+  EXPECT_EQ(runAdugs("run --dataset viode " + bag("viode") + kalibr() + " --config " + config + " --out " +
+                         (out / "a").string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("'/imu_from_config' is not in the bag"), std::string::npos) << log;
+  // The command line's topic wins over the config's.
+  EXPECT_EQ(runAdugs("run -q --dataset viode " + bag("viode") + kalibr() + " --config " + config +
+                         " --imu-topic /imu0 --duration 1 --out " + (out / "b").string(),
+                     &log),
+            0)
+      << log;
+  writeText(config, "playback:\n  image_topik: /cam0/image_raw\n");
+  EXPECT_EQ(runAdugs("run --dataset viode " + bag("viode") + kalibr() + " --config " + config + " --out " +
+                         (out / "c").string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("image_topik"), std::string::npos) << log;
+}
+
+TEST(CmdBagInfo, PrintsTopicsOfTheRealT265BagAndRefusesBrokenFiles) {
+  const auto bag = sharedDataDir() / "rosbags/kapture_t265/trimmed_locoffice.bag";
+  ADUGS_REQUIRE_SHARED(bag);
+  std::string log;
+  ASSERT_EQ(runAdugs("bag info " + bag.string(), &log), 0) << log;
+  EXPECT_NE(log.find("/camera/fisheye1/image_raw"), std::string::npos) << log;
+  EXPECT_NE(log.find("sensor_msgs/Image"), std::string::npos) << log;
+  EXPECT_NE(log.find("messages:    50"), std::string::npos) << log;
+  EXPECT_NE(log.find("compression: none"), std::string::npos) << log;
+  const auto empty = sharedDataDir() / "rosbags/rosbagjs_fixtures/empty-file.bag";
+  EXPECT_EQ(runAdugs("bag info " + empty.string(), &log), 2) << log;
+  EXPECT_NE(log.find("empty-file.bag: empty file"), std::string::npos) << log;
+  EXPECT_EQ(runAdugs("bag info /nonexistent/x.bag", &log), 2) << log;
+  EXPECT_NE(log.find("/nonexistent/x.bag: file not found"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace adugs::test
