@@ -8,7 +8,9 @@ namespace adugs::app {
 void registerBagCommand(CLI::App& root);
 void registerCalibCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
+void registerEvalMotCommand(CLI::App& root);
 void registerRunCommand(CLI::App& root);
 void registerSimCommand(CLI::App& root);
+void registerTrackCommand(CLI::App& root);
 
 }  // namespace adugs::app

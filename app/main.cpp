@@ -13,9 +13,11 @@ int main(int argc, char** argv) {
   root.set_version_flag("--version", "adugs 0.1");
   adugs::app::registerRunCommand(root);
   adugs::app::registerEvalCommand(root);
+  adugs::app::registerEvalMotCommand(root);
   adugs::app::registerCalibCommand(root);
   adugs::app::registerBagCommand(root);
   adugs::app::registerSimCommand(root);
+  adugs::app::registerTrackCommand(root);
 
   try {
     root.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include "tracking/mot_metrics.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <set>
 
 #include "tracking/hungarian.h"
@@ -16,6 +17,78 @@ double MotCounts::mota() const {
 double MotCounts::motp() const { return matches > 0 ? iou_sum / matches : 0.0; }
 double MotCounts::recall() const {
   return ground_truth > 0 ? static_cast<double>(matches) / ground_truth : 0.0;
+}
+
+double MotSummary::precision() const {
+  const int hypotheses = counts.matches + counts.false_positives;
+  return hypotheses > 0 ? static_cast<double>(counts.matches) / hypotheses : 0.0;
+}
+double MotSummary::idf1() const {
+  const int total = counts.ground_truth + predictions;
+  return total > 0 ? 2.0 * idtp / total : 0.0;
+}
+double MotSummary::idp() const { return predictions > 0 ? static_cast<double>(idtp) / predictions : 0.0; }
+double MotSummary::idr() const {
+  return counts.ground_truth > 0 ? static_cast<double>(idtp) / counts.ground_truth : 0.0;
+}
+
+MotSummary combineMotSummaries(const std::vector<MotSummary>& summaries) {
+  MotSummary all;
+  for (const MotSummary& s : summaries) {
+    all.counts.frames += s.counts.frames;
+    all.counts.ground_truth += s.counts.ground_truth;
+    all.counts.matches += s.counts.matches;
+    all.counts.false_negatives += s.counts.false_negatives;
+    all.counts.false_positives += s.counts.false_positives;
+    all.counts.id_switches += s.counts.id_switches;
+    all.counts.ignored_hypotheses += s.counts.ignored_hypotheses;
+    all.counts.iou_sum += s.counts.iou_sum;
+    all.unique_objects += s.unique_objects;
+    all.mostly_tracked += s.mostly_tracked;
+    all.partially_tracked += s.partially_tracked;
+    all.mostly_lost += s.mostly_lost;
+    all.fragmentations += s.fragmentations;
+    all.predictions += s.predictions;
+    all.idtp += s.idtp;
+  }
+  return all;
+}
+
+MotSummary MotAccumulator::summary() const {
+  MotSummary s;
+  s.counts = counts_;
+  s.unique_objects = static_cast<int>(gt_matched_.size());
+  for (const auto& [id, matched] : gt_matched_) {
+    int hits = 0;
+    for (bool m : matched) hits += m;
+    const double ratio = static_cast<double>(hits) / matched.size();
+    if (ratio >= 0.8) ++s.mostly_tracked;
+    else if (ratio >= 0.2) ++s.partially_tracked;
+    else ++s.mostly_lost;
+    // Matched -> missed transitions between the first and the last match.
+    size_t first = matched.size(), last = 0;
+    for (size_t k = 0; k < matched.size(); ++k)
+      if (matched[k]) {
+        first = std::min(first, k);
+        last = k;
+      }
+    for (size_t k = first + 1; k <= last && first < matched.size(); ++k)
+      if (matched[k - 1] && !matched[k]) ++s.fragmentations;
+  }
+  for (const auto& [id, frames] : hyp_frames_) s.predictions += frames;
+
+  // Global identity assignment: maximise the overlapping frames of matched trajectory pairs.
+  std::map<int64_t, int> gt_row, hyp_col;
+  for (const auto& [id, matched] : gt_matched_) gt_row.emplace(id, static_cast<int>(gt_row.size()));
+  for (const auto& [id, frames] : hyp_frames_) hyp_col.emplace(id, static_cast<int>(hyp_col.size()));
+  if (!gt_row.empty() && !hyp_col.empty()) {
+    Eigen::MatrixXd cost = Eigen::MatrixXd::Zero(gt_row.size(), hyp_col.size());
+    for (const auto& [pair, frames] : pair_overlaps_) cost(gt_row[pair.first], hyp_col[pair.second]) = -frames;
+    const std::vector<int> assignment = solveAssignment(cost);
+    for (size_t r = 0; r < assignment.size(); ++r)
+      if (assignment[r] >= 0) s.idtp += static_cast<int>(-cost(r, assignment[r]));
+  }
+  return s;
 }
 
 void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
@@ -64,6 +137,7 @@ void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
   current_match_.clear();
   for (int i = 0; i < n; ++i) {
     const int j = hyp_of_gt[i];
+    gt_matched_[gt[i].id].push_back(j >= 0);
     if (j < 0) {
       ++counts_.false_negatives;
       continue;
@@ -80,11 +154,25 @@ void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
     bool on_ignored = false;
     for (const Box& b : ignored)
       on_ignored = on_ignored || intersectionOverUnion(b, hyp[j].box) >= iou_min_;
-    if (on_ignored)
+    if (on_ignored) {
       ++counts_.ignored_hypotheses;
-    else
+      hyp_used[j] = true;  // not scored: kept out of the identity metrics too
+    } else {
       ++counts_.false_positives;
+    }
   }
+  // Identity metrics: every scored hypothesis, every (gt, hyp) pair overlapping enough.
+  std::vector<bool> ignored_hyp(m, false);
+  for (int j = 0; j < m; ++j) {
+    bool matched = false;
+    for (int i = 0; i < n; ++i) matched = matched || hyp_of_gt[i] == j;
+    ignored_hyp[j] = hyp_used[j] && !matched;
+    if (!ignored_hyp[j]) ++hyp_frames_[hyp[j].id];
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j)
+      if (!ignored_hyp[j] && intersectionOverUnion(gt[i].box, hyp[j].box) >= iou_min_)
+        ++pair_overlaps_[{gt[i].id, hyp[j].id}];
 }
 
 }  // namespace adugs::tracking

@@ -5,8 +5,15 @@
 // the Hungarian algorithm on 1 - IoU. A ground-truth object whose matched hypothesis id differs
 // from its last matched id counts as an identity switch.
 //   MOTA = 1 - (FN + FP + IDSW) / GT,   MOTP = mean IoU of the matches.
+// The summary adds, with py-motmetrics' definitions (its MOTChallenge test values reproduce):
+//   MT / PT / ML: ground-truth objects matched in >= 80 %, 20-80 %, < 20 % of their frames;
+//   fragmentations: per object, changes from matched to missed between its first and last match;
+//   identity metrics (Ristani et al. 2016): one global one-to-one assignment of ground-truth
+//   trajectories to hypothesis trajectories maximising the frames where the pair overlaps with
+//   IoU >= iou_min (IDTP); IDP = IDTP / predictions, IDR = IDTP / GT, IDF1 = 2 IDTP / (GT + predictions).
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "tracking/box.h"
@@ -32,6 +39,26 @@ struct MotCounts {
   double recall() const;  // matches / ground_truth
 };
 
+struct MotSummary {
+  MotCounts counts;
+  int unique_objects = 0;
+  int mostly_tracked = 0, partially_tracked = 0, mostly_lost = 0;
+  int fragmentations = 0;
+  int predictions = 0;  // hypothesis boxes scored (those on ignored regions are not)
+  int idtp = 0;         // identity true positives
+  double mota() const { return counts.mota(); }
+  double motpIou() const { return counts.motp(); }              // mean IoU of matches
+  double motpDistance() const { return 1.0 - counts.motp(); }   // py-motmetrics' motp (1 - IoU)
+  double recall() const { return counts.recall(); }
+  double precision() const;
+  double idf1() const;
+  double idp() const;
+  double idr() const;
+};
+
+// Several sequences as one (MOTChallenge's OVERALL row): counts summed, ratios recomputed.
+MotSummary combineMotSummaries(const std::vector<MotSummary>& summaries);
+
 class MotAccumulator {
  public:
   explicit MotAccumulator(double iou_min = 0.5) : iou_min_(iou_min) {}
@@ -41,12 +68,16 @@ class MotAccumulator {
   void addFrame(const std::vector<LabelledBox>& ground_truth,
                 const std::vector<LabelledBox>& hypotheses, const std::vector<Box>& ignored = {});
   const MotCounts& counts() const { return counts_; }
+  MotSummary summary() const;
 
  private:
   double iou_min_;
   MotCounts counts_;
   std::map<int64_t, int64_t> current_match_;  // gt id -> hypothesis id matched last frame
   std::map<int64_t, int64_t> last_match_;     // gt id -> hypothesis id matched most recently
+  std::map<int64_t, std::vector<bool>> gt_matched_;  // gt id -> matched or not, per frame present
+  std::map<int64_t, int> hyp_frames_;                // hypothesis id -> frames scored
+  std::map<std::pair<int64_t, int64_t>, int> pair_overlaps_;  // (gt, hyp) -> frames IoU >= iou_min
 };
 
 }  // namespace adugs::tracking

@@ -8,10 +8,33 @@ namespace adugs::tracking {
 
 SortTracker::SortTracker(const SortOptions& options) : options_(options) {}
 
+void SortTracker::fuse(Track& t, const Box& detection) {
+  const int missed = t.object.frames_missed;
+  if (options_.observation_centric_recovery && missed > 0) {
+    t.filter = t.filter_at_last_detection;
+    const Box& a = t.last_detection;
+    const double step = t.dt_since_detection / (missed + 1);  // frames between the virtual ones
+    for (int k = 1; k <= missed; ++k) {
+      const double s = static_cast<double>(k) / (missed + 1);
+      t.filter.predict(step);
+      t.filter.update(Box{a.cx + s * (detection.cx - a.cx), a.cy + s * (detection.cy - a.cy),
+                          a.w + s * (detection.w - a.w), a.h + s * (detection.h - a.h)});
+    }
+    t.filter.predict(step);
+  }
+  t.filter.update(detection);
+  t.dt_since_detection = 0;
+  t.filter_at_last_detection = t.filter;
+  t.last_detection = detection;
+}
+
 std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& detections,
                                                double dt) {
   ++frames_;
-  for (Track& t : tracks_) t.object.box = t.filter.predict(dt);
+  for (Track& t : tracks_) {
+    t.object.box = t.filter.predict(dt);
+    t.dt_since_detection += dt;
+  }
 
   // Cost 1 - IoU; pairs of different classes can never match (cost above any accepted pair).
   const int n_tracks = static_cast<int>(tracks_.size());
@@ -29,7 +52,7 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     TrackedObject& o = tracks_[i].object;
     const int j = match[i];
     if (j >= 0 && 1.0 - cost(i, j) >= options_.iou_min) {
-      tracks_[i].filter.update(detections[j].box);
+      fuse(tracks_[i], detections[j].box);
       o.box = tracks_[i].filter.box();
       o.detected = true;
       ++o.hits;
@@ -52,7 +75,8 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     o.class_id = detections[j].class_id;
     o.detected = true;
     o.hits = 1;
-    tracks_.push_back({o, AdaptiveBoxFilter(detections[j].box, options_.filter)});
+    const AdaptiveBoxFilter filter(detections[j].box, options_.filter);
+    tracks_.push_back({o, filter, filter, detections[j].box, 0.0});
   }
 
   std::vector<TrackedObject> out;

@@ -34,6 +34,11 @@ struct SortOptions {
   int min_hits = 2;  // detections before a track is reported (reported at once while the
                      // tracker itself is younger than min_hits frames, as SORT does)
   AdaptiveNoiseOptions filter;
+  // OC-SORT's observation-centric re-update: when a track is found again after coasting k frames,
+  // its filter goes back to the state after its last detection and fuses k virtual detections on
+  // the straight line from that detection to the new one, then the new one. The coasting
+  // prediction's velocity error (which grows during an occlusion) is not kept.
+  bool observation_centric_recovery = false;  // no measured gain yet (doc/results.md)
 };
 
 class SortTracker {
@@ -50,7 +55,11 @@ class SortTracker {
   struct Track {
     TrackedObject object;
     AdaptiveBoxFilter filter;
+    AdaptiveBoxFilter filter_at_last_detection;  // for the observation-centric re-update
+    Box last_detection;
+    double dt_since_detection = 0;
   };
+  void fuse(Track& track, const Box& detection);
   SortOptions options_;
   std::vector<Track> tracks_;
   int64_t next_id_ = 1;

@@ -31,6 +31,26 @@ TEST(MotMetrics, HandWorkedSequence) {
   EXPECT_DOUBLE_EQ(c.mota(), 0.5);
   EXPECT_NEAR(c.motp(), (6 * 1.0 + 0.6) / 7, 1e-12);
   EXPECT_DOUBLE_EQ(c.recall(), 7.0 / 8.0);
+
+  // Summary. gt 1 matched 4/4 (mostly tracked), gt 2 3/4 (partially); gt 2 goes matched -> missed
+  // once between its first and last match (1 fragmentation). Predictions: 2 + 2 + 2 + 3 = 9.
+  // Frames with IoU >= 0.5 per pair: (1,10) 4, (1,40) 1, (2,20) 1, (2,30) 2 (f3, f4). The best
+  // one-to-one assignment is 1-10 and 2-30: IDTP = 6, IDF1 = 2*6 / (8 + 9), IDP = 6/9, IDR = 6/8.
+  const MotSummary s = acc.summary();
+  EXPECT_EQ(s.unique_objects, 2);
+  EXPECT_EQ(s.mostly_tracked, 1);
+  EXPECT_EQ(s.partially_tracked, 1);
+  EXPECT_EQ(s.mostly_lost, 0);
+  EXPECT_EQ(s.fragmentations, 1);
+  EXPECT_EQ(s.predictions, 9);
+  EXPECT_EQ(s.idtp, 6);
+  EXPECT_DOUBLE_EQ(s.idf1(), 12.0 / 17.0);
+  EXPECT_DOUBLE_EQ(s.idp(), 6.0 / 9.0);
+  EXPECT_DOUBLE_EQ(s.idr(), 6.0 / 8.0);
+  EXPECT_DOUBLE_EQ(s.precision(), 7.0 / 9.0);
+  const MotSummary twice = combineMotSummaries({s, s});
+  EXPECT_DOUBLE_EQ(twice.idf1(), s.idf1());
+  EXPECT_EQ(twice.fragmentations, 2);
 }
 
 TEST(MotMetrics, HypothesesOnIgnoredRegionsAreNotFalsePositives) {

@@ -1,3 +1,5 @@
+#include <iostream>
+
 #include <gtest/gtest.h>
 
 #include <map>
@@ -80,6 +82,39 @@ TEST(SortTracker, NewTracksNeedMinHitsOnceTheTrackerIsRunning) {
   EXPECT_TRUE(sort.update({{Box{10, 10, 8, 8}, 0}}).empty());
   EXPECT_TRUE(sort.update({{Box{11, 10, 8, 8}, 0}}).empty());
   EXPECT_EQ(sort.update({{Box{12, 10, 8, 8}, 0}}).size(), 1u);
+}
+
+}  // namespace
+}  // namespace adugs::tracking
+
+namespace adugs::tracking {
+namespace {
+
+// A wide object (a cart, 200 px) moves right at 10 px/frame, is hidden for 5 frames during which
+// it stops, and is seen again standing where it stopped. Coasting carried the old velocity; the
+// observation-centric re-update replaces it by the motion between the two detections, so the next
+// prediction lands closer to where the cart stands.
+double predictionErrorAfterOcclusion(bool recovery) {
+  SortOptions o;
+  o.max_age = 10;
+  o.min_hits = 1;
+  o.observation_centric_recovery = recovery;
+  SortTracker tracker(o);
+  for (int f = 0; f < 10; ++f) tracker.update({{Box{100.0 + 10 * f, 200, 200, 80}, 0, 1.0}});
+  for (int f = 0; f < 5; ++f) tracker.update({});  // hidden; the person stops at x = 190
+  tracker.update({{Box{190, 200, 200, 80}, 0, 1.0}});
+  const std::vector<TrackedObject> next = tracker.update({});  // the prediction one frame on
+  EXPECT_EQ(next.size(), 1u);
+  EXPECT_EQ(next[0].id, 1);  // same identity throughout
+  return std::abs(next[0].box.cx - 190.0);
+}
+
+TEST(SortTracker, ObservationCentricRecoveryForgetsTheCoastingVelocity) {
+  const double with = predictionErrorAfterOcclusion(true), without = predictionErrorAfterOcclusion(false);
+  EXPECT_LT(with, 0.5 * without) << "with " << with << " px, without " << without << " px";
+  std::cout << "prediction error after the occlusion: " << with << " px with the re-update, " << without
+            << " px without\n";
+  EXPECT_LT(with, 3.0);
 }
 
 }  // namespace
