@@ -26,6 +26,7 @@
 #include "calib/text_format.h"
 #include "calib/visp_camera_xml.h"
 #include "data/atomic_file.h"
+#include "data/camera_model.h"
 #include "data/euroc_sensor_yaml.h"
 #include "data/input_error.h"
 #include "data/yaml_options.h"
@@ -224,7 +225,7 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (!a.model.empty()) {
     std::string m = a.model;
     if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
-    if (!calib::parseDistortionModel(m, o.intrinsics.model))
+    if (!data::parseDistortionModel(m, o.intrinsics.model))
       throw data::InputError(kCli, 0, "--model",
                              "unknown distortion model '" + a.model +
                                  "' (use radtan or equidistant, optionally as pinhole-radtan / "

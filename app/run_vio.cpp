@@ -12,8 +12,8 @@
 #include "app/run_config.h"
 #include "app/run_report.h"
 #include "app/vio_frontend_stage.h"
+#include "data/camera_model.h"
 #include "data/trajectory_io.h"
-#include "vio/camera_model.h"
 #include "vio/sliding_window_estimator.h"
 
 namespace adugs::app {
@@ -46,7 +46,7 @@ void runVio(const VioRunArgs& a) {
   data::SequenceSource& source = *sequence.source;
   const std::string& gt_path = sequence.gt_path;
 
-  const vio::CameraModel camera(sequence.camera);
+  const data::CameraModel camera(sequence.camera);
   FrontEndStage front_end(
       source, config.tracker, camera, sequence.camera.T_B_C,
       {a.mask, sequence.mask_dir, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder});

@@ -35,7 +35,7 @@ cv::Mat loadGroundTruthMask(const std::string& mask_dir, const data::Frame& fram
 
 FrontEndStage::FrontEndStage(data::SequenceSource& source,
                              const vio::FeatureTrackerOptions& tracker_options,
-                             const vio::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
+                             const data::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
                              const FrontEndStageOptions& options)
     : source_(source), tracker_(tracker_options, camera), R_B_C_(T_B_C.rotation()), options_(options) {
   if (options_.mask == "gt" && options_.mask_dir.empty())

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/pipeline_channel.h"
+#include "data/camera_model.h"
 #include "data/sequence_source.h"
 #include "vio/feature_tracker.h"
 #include "vio/gyro_rotation_predictor.h"
@@ -44,7 +45,7 @@ class FrontEndStage {
  public:
   // T_B_C: the camera's extrinsic (its rotation turns gyro rotations into camera rotations).
   FrontEndStage(data::SequenceSource& source, const vio::FeatureTrackerOptions& tracker_options,
-                const vio::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
+                const data::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
                 const FrontEndStageOptions& options);
   ~FrontEndStage();
 

@@ -15,7 +15,8 @@ std::string formatIntrinsicsReport(const IntrinsicsResult& r, const ReportContex
   std::string s = "adugs calib intrinsics\n";
   s += "  input        " + ctx.input + "\n";
   if (!ctx.target.empty()) s += "  target       " + ctx.target + "\n";
-  s += strprintf("  model        pinhole-%s, %dx%d\n", kalibrName(c.model).c_str(), c.width, c.height);
+  s += strprintf("  model        pinhole-%s, %dx%d\n", data::kalibrName(c.model).c_str(), c.width,
+                 c.height);
   if (ctx.detect_seconds >= 0)
     s += strprintf("  detection    %d images in %.2f s (%.1f ms/image)\n", ctx.images,
                    ctx.detect_seconds, ctx.images > 0 ? 1000 * ctx.detect_seconds / ctx.images : 0);
@@ -41,7 +42,8 @@ std::string formatIntrinsicsReport(const IntrinsicsResult& r, const ReportContex
       s += strprintf("  %-3s %16.8g\n", kNames[m][i], c.params[i]);
   }
   if (ctx.has_reference) {
-    s += "\nCompared with " + ctx.reference_name + " (" + kalibrName(ctx.reference.model) + ")\n";
+    s += "\nCompared with " + ctx.reference_name + " (" + data::kalibrName(ctx.reference.model) +
+         ")\n";
     for (int i = 0; i < 8; ++i) {
       const double ref = ctx.reference.params[i];
       if (ctx.reference.model == c.model || i < 4)

@@ -111,7 +111,7 @@ struct FrameReprojection {
       ceres::UnitQuaternionRotatePoint(q_C_I, p_I, p_C);
       for (int i = 0; i < 3; ++i) p_C[i] += p_C_I[i];
       const T w = T(c.weight * inv_sigma_px);
-      if (!projectPoint(camera->model, params, p_C, uv)) {
+      if (!data::projectPoint(camera->model, params, p_C, uv)) {
         r[2 * k] = r[2 * k + 1] = T(0);  // behind the camera: cannot happen near a solution
         continue;
       }

@@ -62,7 +62,7 @@ PinholeCamera readCamera(const YAML::Node& cam, const std::string& path, const s
   const auto k = numbers(need(cam, intrinsics_key, path, prefix), 4, path, prefix + intrinsics_key);
   const auto d = numbers(need(cam, coeffs_key, path, prefix), 4, path, prefix + coeffs_key);
   const YAML::Node model = need(cam, model_key, path, prefix);
-  if (!parseDistortionModel(model.as<std::string>(""), c.model))
+  if (!data::parseDistortionModel(model.as<std::string>(""), c.model))
     throw InputError(path, lineOf(model), prefix + model_key,
                      "unknown distortion model '" + model.as<std::string>("") + "'");
   if (YAML::Node proj = cam["camera_model"] ? cam["camera_model"] : cam["proj_model"]) {

@@ -1,54 +1,25 @@
 #include "calib/camera_model.h"
 
-#include <Eigen/Dense>
-
 namespace adugs::calib {
 
-bool parseDistortionModel(const std::string& name, DistortionModel& out) {
-  if (name == "radtan" || name == "radial-tangential" || name == "radtan4") {
-    out = DistortionModel::kRadialTangential;
-    return true;
-  }
-  if (name == "equidistant" || name == "equi" || name == "equi4" || name == "fisheye") {
-    out = DistortionModel::kEquidistant;
-    return true;
-  }
-  return false;
-}
-
-std::string kalibrName(DistortionModel model) {
-  return model == DistortionModel::kRadialTangential ? "radtan" : "equidistant";
-}
-
 bool PinholeCamera::project(const Eigen::Vector3d& p_C, Eigen::Vector2d& uv) const {
-  return projectPoint(model, params.data(), p_C.data(), uv.data());
+  return data::projectPoint(model, params.data(), p_C.data(), uv.data());
 }
 
 bool PinholeCamera::unproject(const Eigen::Vector2d& uv, Eigen::Vector3d& ray) const {
+  const data::CameraModel camera = cameraModel();
+  const Eigen::Vector2d xn = camera.pixelToNormalized(uv);
+  // The undistortion stops just short of 90 degrees for fisheye pixels beyond it: check it hit.
   const Eigen::Vector2d target((uv.x() - pu()) / fu(), (uv.y() - pv()) / fv());
-  // Gauss-Newton on the distortion with a numeric Jacobian: small, and only for init/reports.
-  Eigen::Vector2d x = target;
-  for (int it = 0; it < 30; ++it) {
-    Eigen::Vector2d f;
-    distortPoint(model, params.data() + 4, x.x(), x.y(), f.x(), f.y());
-    const Eigen::Vector2d r = f - target;
-    if (r.norm() < 1e-12) break;
-    Eigen::Matrix2d J;
-    const double h = 1e-7;
-    for (int j = 0; j < 2; ++j) {
-      Eigen::Vector2d xh = x;
-      xh[j] += h;
-      Eigen::Vector2d fh;
-      distortPoint(model, params.data() + 4, xh.x(), xh.y(), fh.x(), fh.y());
-      J.col(j) = (fh - f) / h;
-    }
-    x -= J.colPivHouseholderQr().solve(r);
-    if (!x.allFinite()) return false;
-  }
-  Eigen::Vector2d check;
-  distortPoint(model, params.data() + 4, x.x(), x.y(), check.x(), check.y());
-  ray = Eigen::Vector3d(x.x(), x.y(), 1.0);
-  return (check - target).norm() < 1e-8;
+  if (!xn.allFinite() || (camera.distort(xn) - target).norm() >= 1e-8) return false;
+  ray = Eigen::Vector3d(xn.x(), xn.y(), 1.0);
+  return true;
+}
+
+data::CameraModel PinholeCamera::cameraModel() const {
+  return data::CameraModel(width, height, fu(), fv(), pu(), pv(),
+                           data::CameraModel::fromModel(model),
+                           {params[4], params[5], params[6], params[7]});
 }
 
 data::CameraCalibration PinholeCamera::toEuroc() const {

@@ -12,6 +12,7 @@
 #include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
+#include "data/camera_model.h"
 #include "data/input_error.h"
 #include "data/yaml_options.h"
 
@@ -30,7 +31,7 @@ struct ReprojectionCost {
     for (int i = 0; i < 3; ++i) p_C[i] += pose[3 + i];
     T params[8] = {proj[0], proj[1], proj[2], proj[3], dist[0], dist[1], dist[2], dist[3]};
     T uv[2];
-    if (!projectPoint(model_, params, p_C, uv)) return false;
+    if (!data::projectPoint(model_, params, p_C, uv)) return false;
     residual[0] = uv[0] - T(pixel_.x());
     residual[1] = uv[1] - T(pixel_.y());
     return true;
@@ -117,7 +118,7 @@ Eigen::Vector2d residualOf(const PinholeCamera& cam, const std::array<double, 6>
 void readIntrinsicsOptions(data::YamlOptionsReader& r, IntrinsicsOptions& o) {
   std::string model;
   if (r.optional("distortion_model", model)) {
-    r.check(parseDistortionModel(model, o.model), "distortion_model",
+    r.check(data::parseDistortionModel(model, o.model), "distortion_model",
             "unknown distortion model '" + model + "' (use radtan or equidistant)");
   }
   r.optional("min_views", o.min_views, 1, 100000);

@@ -15,7 +15,7 @@ std::string formatCamchainYaml(const PinholeCamera& c, const std::string& name,
   s += "  cam_overlaps: []\n";
   s += "  camera_model: pinhole\n";
   s += "  distortion_coeffs: " + list(4, 8) + "\n";
-  s += "  distortion_model: " + kalibrName(c.model) + "\n";
+  s += "  distortion_model: " + data::kalibrName(c.model) + "\n";
   s += "  intrinsics: " + list(0, 4) + "\n";
   s += "  resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
   s += "  rostopic: " + rostopic + "\n";

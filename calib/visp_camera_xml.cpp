@@ -62,7 +62,8 @@ void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
   in.close();
   fs::remove(tmp, ec);
   std::string xml = text.str();
-  std::string comment = "<!-- adugs calib intrinsics: Kalibr model pinhole-" + kalibrName(c.model) +
+  std::string comment =
+      "<!-- adugs calib intrinsics: Kalibr model pinhole-" + data::kalibrName(c.model) +
                         ", intrinsics [" + formatDouble(c.fu()) + ", " + formatDouble(c.fv()) +
                         ", " + formatDouble(c.pu()) + ", " + formatDouble(c.pv()) +
                         "], distortion_coeffs [";

@@ -25,6 +25,20 @@ Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& 
   return T;
 }
 
+void readPinholeIntrinsics(YamlOptionsReader& r, CameraCalibration* cam) {
+  std::string model;
+  r.required("camera_model", model);
+  r.check(model == "pinhole", "camera_model", "only 'pinhole' is supported, found '" + model + "'");
+  std::vector<double> k;
+  r.required("intrinsics", k);
+  r.check(k.size() == 4, "intrinsics", "expected [fu, fv, cu, cv], found " + std::to_string(k.size()) + " numbers");
+  r.check(k[0] > 0 && k[1] > 0, "intrinsics", "focal lengths fu, fv must be positive");
+  cam->fx = k[0];
+  cam->fy = k[1];
+  cam->cx = k[2];
+  cam->cy = k[3];
+}
+
 namespace {
 
 // The optional sensor_type and comment keys.
@@ -110,18 +124,7 @@ CameraCalibration parseCamera(YamlOptionsReader r) {
   cam.width = resolution[0];
   cam.height = resolution[1];
 
-  std::string model;
-  r.required("camera_model", model);
-  r.check(model == "pinhole", "camera_model", "only 'pinhole' is supported, found '" + model + "'");
-
-  std::vector<double> k;
-  r.required("intrinsics", k);
-  r.check(k.size() == 4, "intrinsics", "expected [fu, fv, cu, cv], found " + std::to_string(k.size()) + " numbers");
-  r.check(k[0] > 0 && k[1] > 0, "intrinsics", "focal lengths fu, fv must be positive");
-  cam.fx = k[0];
-  cam.fy = k[1];
-  cam.cx = k[2];
-  cam.cy = k[3];
+  readPinholeIntrinsics(r, &cam);
 
   std::string dist;
   r.required("distortion_model", dist);

@@ -48,6 +48,9 @@ class YamlOptionsReader;
 // InputError naming r's file and `key`.
 Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m);
 
+// camera_model (pinhole only) and intrinsics [fu, fv, cu, cv] (EuRoC and Kalibr spell them alike).
+void readPinholeIntrinsics(YamlOptionsReader& r, CameraCalibration* cam);
+
 // Read from a file; `source` names the text in error messages for the *String variants.
 CameraCalibration readEurocCameraYaml(const std::string& path);
 CameraCalibration parseEurocCameraYaml(const std::string& text, const std::string& source);

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "data/camera_model.h"
 #include "data/types.h"
 #include "data/yaml_options.h"
 
@@ -24,24 +25,12 @@ KalibrCamera parseCamera(YamlOptionsReader root, const std::string& name) {
   YamlOptionsReader r = root.child(name, true);
   KalibrCamera out;
   CameraCalibration& cam = out.camera;
-  std::string model = "pinhole";
-  r.required("camera_model", model);
-  r.check(model == "pinhole", "camera_model", "only 'pinhole' is supported, found '" + model + "'");
-
-  std::vector<double> k;
-  r.required("intrinsics", k);
-  r.check(k.size() == 4, "intrinsics", "expected [fu, fv, pu, pv], found " + std::to_string(k.size()) + " numbers");
-  r.check(k[0] > 0 && k[1] > 0, "intrinsics", "focal lengths fu, fv must be positive");
-  cam.fx = k[0];
-  cam.fy = k[1];
-  cam.cx = k[2];
-  cam.cy = k[3];
+  readPinholeIntrinsics(r, &cam);
 
   std::string dist;
   r.required("distortion_model", dist);
-  if (dist == "radtan") cam.distortion_model = DistortionModel::kRadialTangential;
-  else if (dist == "equidistant") cam.distortion_model = DistortionModel::kEquidistant;
-  else r.fail("distortion_model", "expected 'radtan' or 'equidistant', found '" + dist + "'");
+  r.check(parseDistortionModel(dist, cam.distortion_model), "distortion_model",
+          "expected 'radtan' or 'equidistant', found '" + dist + "'");
   r.required("distortion_coeffs", cam.distortion);
   r.check(cam.distortion.size() == 4, "distortion_coeffs",
           "expected 4 coefficients, found " + std::to_string(cam.distortion.size()));

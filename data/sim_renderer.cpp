@@ -14,6 +14,14 @@ namespace {
 
 constexpr float kNear = 0.02f;  // metres: nothing closer is drawn
 constexpr int kEdgeSamples = 16;
+// Projected outlines are sampled until consecutive samples are at most this far apart (pixels),
+// so the bounding box of a strongly bent (fisheye) edge misses at most a fraction of a pixel,
+// well inside the box's 2-pixel margin.
+constexpr double kMaxSampleGapPx = 4.0;
+constexpr int kMaxEdgeSplits = 10;
+// Pixels whose ray is this far off the optical axis or more stay black: the lens' image circle
+// (a fisheye's corners). The rays are kept as (x, y, 1), which cannot reach 90 degrees.
+constexpr double kMaxRayAngle = 85.0 * M_PI / 180.0;
 
 // log2 to ~0.01 (enough to pick a mip level), much cheaper than std::log2 per pixel.
 inline float fastLog2(float x) {
@@ -24,6 +32,28 @@ inline float fastLog2(float x) {
   float m;
   std::memcpy(&m, &bits, sizeof m);
   return e + (-0.34484843f * m + 2.02466578f) * m - 0.67487759f;
+}
+
+// Pixel bounding box of projected points.
+struct PixelBox {
+  double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
+  void add(const Eigen::Vector2d& p) {
+    u0 = std::min(u0, p.x()), u1 = std::max(u1, p.x());
+    v0 = std::min(v0, p.y()), v1 = std::max(v1, p.y());
+  }
+};
+
+// Adds the projections of the normalised-plane segment a-b (pixels pa, pb; pa already added)
+// between its ends, splitting it in halves while the ends are more than kMaxSampleGapPx apart.
+void addSegment(const CameraModel& camera, const Eigen::Vector2d& a, const Eigen::Vector2d& pa,
+                const Eigen::Vector2d& b, const Eigen::Vector2d& pb, int depth, PixelBox* box) {
+  if (depth >= kMaxEdgeSplits || (pb - pa).squaredNorm() <= kMaxSampleGapPx * kMaxSampleGapPx)
+    return;
+  const Eigen::Vector2d m = 0.5 * (a + b);
+  const Eigen::Vector2d pm = camera.normalizedToPixel(m);
+  box->add(pm);
+  addSegment(camera, a, pa, m, pm, depth + 1, box);
+  addSegment(camera, m, pm, b, pb, depth + 1, box);
 }
 
 // Sutherland-Hodgman clip of a convex polygon against the half-space a.X >= 0.
@@ -42,8 +72,9 @@ void clipPolygon(std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& a, d
 
 }  // namespace
 
-SimRenderer::SimRenderer(const SimCamera& camera) : camera_(camera) {
+SimRenderer::SimRenderer(const SimCamera& camera) : camera_(camera), model_(camera.model()) {
   const int w = camera.width, h = camera.height;
+  const double max_tan = std::tan(kMaxRayAngle);
   n_ = w * h;
   ray_x_.resize(static_cast<size_t>(n_));
   ray_y_.resize(static_cast<size_t>(n_));
@@ -51,13 +82,18 @@ SimRenderer::SimRenderer(const SimCamera& camera) : camera_(camera) {
   float xl = 1e9f, xh = -1e9f, yl = 1e9f, yh = -1e9f;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Eigen::Vector3d r = camera.unproject({double(x), double(y)});
-      // Solid angle of the pixel from the unit-ray derivatives (central differences).
-      const Eigen::Vector3d rx = camera.unproject({x + 0.5, double(y)}).normalized() -
-                                 camera.unproject({x - 0.5, double(y)}).normalized();
-      const Eigen::Vector3d ry = camera.unproject({double(x), y + 0.5}).normalized() -
-                                 camera.unproject({double(x), y - 0.5}).normalized();
+      const Eigen::Vector3d r = model_.unproject({double(x), double(y)});
       const size_t i = static_cast<size_t>(y * w + x);
+      if (!(r.head<2>().norm() < max_tan)) {  // outside the image circle: no ray, never hit
+        ray_x_[i] = ray_y_[i] = std::numeric_limits<float>::quiet_NaN();
+        lod_pixel_[i] = 0;
+        continue;
+      }
+      // Solid angle of the pixel from the unit-ray derivatives (central differences).
+      const Eigen::Vector3d rx = model_.unproject({x + 0.5, double(y)}).normalized() -
+                                 model_.unproject({x - 0.5, double(y)}).normalized();
+      const Eigen::Vector3d ry = model_.unproject({double(x), y + 0.5}).normalized() -
+                                 model_.unproject({double(x), y - 0.5}).normalized();
       ray_x_[i] = static_cast<float>(r.x());
       ray_y_[i] = static_cast<float>(r.y());
       lod_pixel_[i] = static_cast<float>(std::log2(std::sqrt(rx.cross(ry).norm()) * std::pow(r.norm(), 1.5)));
@@ -76,8 +112,8 @@ SimRenderer::SimRenderer(const SimCamera& camera) : camera_(camera) {
   double prev = -1;
   for (int k = 0; k <= 400 && monotonic_distortion_; ++k) {
     const double r = rmax * k / 400.0;
-    const double rd = camera.distort({r, 0}).norm();
-    const double rd2 = camera.distort({0, r}).norm();
+    const double rd = model_.distort({r, 0}).norm();
+    const double rd2 = model_.distort({0, r}).norm();
     if (std::min(rd, rd2) <= prev) monotonic_distortion_ = false;
     prev = std::max(rd, rd2);
   }
@@ -226,22 +262,28 @@ void SimRenderer::rasterizeQuad(const CamQuad& q, int index, ObjectStats* stats)
     clipPolygon(poly, Eigen::Vector3d(0, 1, -y_lo_), 0);
     clipPolygon(poly, Eigen::Vector3d(0, -1, y_hi_), 0);
     if (poly.size() < 3) return;
-    double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
-    const int samples = camera_.hasDistortion() ? kEdgeSamples : 1;
+    PixelBox box;
+    const bool bent = camera_.hasDistortion();
+    const int samples = bent ? kEdgeSamples : 1;
     for (size_t i = 0; i < poly.size(); ++i) {
       const Eigen::Vector2d a = poly[i].head<2>() / poly[i].z();
       const Eigen::Vector3d& nb = poly[(i + 1) % poly.size()];
       const Eigen::Vector2d b = nb.head<2>() / nb.z();
-      for (int s = 0; s < samples; ++s) {
-        const Eigen::Vector2d d = camera_.distort(a + (b - a) * (double(s) / samples));
-        const double pu = camera_.fx * d.x() + camera_.cx, pv = camera_.fy * d.y() + camera_.cy;
-        u0 = std::min(u0, pu), u1 = std::max(u1, pu), v0 = std::min(v0, pv), v1 = std::max(v1, pv);
+      Eigen::Vector2d prev_x, prev_p;
+      for (int s = 0; s <= samples; ++s) {
+        const Eigen::Vector2d x =
+            s == samples ? b : Eigen::Vector2d(a + (b - a) * (double(s) / samples));
+        const Eigen::Vector2d p = model_.normalizedToPixel(x);
+        if (s < samples) box.add(p);  // b is the next edge's first sample
+        if (bent && s > 0) addSegment(model_, prev_x, prev_p, x, p, 0, &box);
+        prev_x = x;
+        prev_p = p;
       }
     }
-    bx0 = std::max(0, int(std::floor(u0)) - 2);
-    by0 = std::max(0, int(std::floor(v0)) - 2);
-    bx1 = std::min(w - 1, int(std::ceil(u1)) + 2);
-    by1 = std::min(h - 1, int(std::ceil(v1)) + 2);
+    bx0 = std::max(0, int(std::floor(box.u0)) - 2);
+    by0 = std::max(0, int(std::floor(box.v0)) - 2);
+    bx1 = std::min(w - 1, int(std::ceil(box.u1)) + 2);
+    by1 = std::min(h - 1, int(std::ceil(box.v1)) + 2);
     if (bx0 > bx1 || by0 > by1) return;
   }
   float* depth = depth_.ptr<float>();
@@ -278,6 +320,7 @@ void SimRenderer::shade(const SimScene& scene, const SimRenderOptions& options, 
   for (int i = 0; i < n_; ++i) {
     const int qi = quad_[size_t(i)];
     if (qi < 0) {
+      if (std::isnan(ray_x_[size_t(i)])) continue;  // outside the image circle: black
       out[i] += options.static_value >= 0 ? float(options.static_value) : scene.background;
       continue;
     }

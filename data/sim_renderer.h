@@ -1,10 +1,13 @@
 #pragma once
-// Software renderer of a SimScene: per-pixel ray casting through the radtan camera model.
-// Each pixel's ray is undistorted once (at construction); a frame then rasterises every quad in
-// the pixel box its frustum-clipped outline covers, intersects the pixel rays with its plane and
-// keeps the nearest hit (z-buffer). Only the winning surface is shaded: trilinear (mip-mapped
-// bilinear) texture lookup with the level chosen from the pixel footprint, so distant and grazing
-// surfaces are low-pass filtered as a real lens/sensor would and KLT sees no texture aliasing.
+// Software renderer of a SimScene: per-pixel ray casting through the camera model
+// (data/camera_model.h: radtan or equidistant). Each pixel's ray is undistorted once (at
+// construction); pixels whose ray is 85 degrees or more off-axis (a fisheye's corners, outside its
+// image circle) stay black. A frame then rasterises every quad in the pixel box its
+// frustum-clipped outline covers (outline edges sampled until samples are at most 4 pixels apart,
+// as distortion bends them), intersects the pixel rays with its plane and keeps the nearest hit
+// (z-buffer). Only the winning surface is shaded: trilinear (mip-mapped bilinear) texture lookup
+// with the level chosen from the pixel footprint, so distant and grazing surfaces are low-pass
+// filtered as a real lens/sensor would and KLT sees no texture aliasing.
 // The same pass yields exact ground truth: the id of the object seen at each pixel centre (the
 // dynamic mask), each object's full silhouette (box ignoring occluders) and its visible fraction.
 #include <cstdint>
@@ -46,7 +49,8 @@ struct SimFrame {
   cv::Mat image;       // CV_8UC1
   cv::Mat object_ids;  // CV_16UC1: object id at the pixel centre, 0 = static world / sky
   cv::Mat mask;        // CV_8UC1: 255 where object_ids > 0
-  cv::Mat depth;       // CV_32FC1: z-depth of the nearest surface [m], +inf for sky
+  cv::Mat depth;       // CV_32FC1: z-depth of the nearest surface [m], +inf for sky (and
+                       // outside a fisheye's image circle)
   std::vector<SimObjectBox> boxes;  // objects with at least one pixel in the image (by id)
 };
 
@@ -95,8 +99,10 @@ class SimRenderer {
   void shade(const SimScene& scene, const SimRenderOptions& options, cv::Mat& acc) const;
 
   SimCamera camera_;
+  CameraModel model_;                  // camera_.model()
   int n_ = 0;
-  std::vector<float> ray_x_, ray_y_;   // undistorted normalised ray (x, y, 1) per pixel
+  std::vector<float> ray_x_, ray_y_;   // undistorted normalised ray (x, y, 1) per pixel; NaN
+                                       // outside the image circle
   std::vector<float> lod_pixel_;       // log2(sqrt(solid angle) * |ray|^1.5), see shade()
   float x_lo_, x_hi_, y_lo_, y_hi_;    // frustum in normalised coordinates
   bool monotonic_distortion_ = true;   // else every quad scans the whole image

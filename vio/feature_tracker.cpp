@@ -56,7 +56,8 @@ struct FeatureTracker::Impl {
   vpKltOpencv forward, backward;
 };
 
-FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options, const CameraModel& camera)
+FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options,
+                               const data::CameraModel& camera)
     : options_(options), camera_(camera), impl_(std::make_unique<Impl>()) {
   validateOptions(options_);
   if (camera_.width() <= 0 || camera_.height() <= 0)

@@ -24,8 +24,8 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "data/camera_model.h"
 #include "vio/anchor_patch.h"
-#include "vio/camera_model.h"
 #include "vio/feature_tracker_options.h"
 
 namespace adugs::vio {
@@ -63,7 +63,7 @@ struct FrameStats {
 class FeatureTracker {
  public:
   // Throws std::invalid_argument for nonsensical options.
-  FeatureTracker(const FeatureTrackerOptions& options, const CameraModel& camera);
+  FeatureTracker(const FeatureTrackerOptions& options, const data::CameraModel& camera);
   ~FeatureTracker();
   FeatureTracker(const FeatureTracker&) = delete;
   FeatureTracker& operator=(const FeatureTracker&) = delete;
@@ -86,7 +86,7 @@ class FeatureTracker {
   const FrameFeatures& lastFeatures() const { return current_; }
 
   const FeatureTrackerOptions& options() const { return options_; }
-  const CameraModel& camera() const { return camera_; }
+  const data::CameraModel& camera() const { return camera_; }
 
  private:
   struct Impl;  // the ViSP trackers and the ORB detector, kept out of this header
@@ -103,7 +103,7 @@ class FeatureTracker {
   void refineWithAnchor(const cv::Mat& image, cv::Point2f* position, Anchor* anchor);
 
   FeatureTrackerOptions options_;
-  CameraModel camera_;
+  data::CameraModel camera_;
   std::unique_ptr<Impl> impl_;
   cv::Mat prev_image_;
   FrameFeatures current_;  // the last frame's output = the next frame's input

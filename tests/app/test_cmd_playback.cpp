@@ -11,6 +11,9 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "data/dataset_preset.h"
+#include "data/euroc_sensor_yaml.h"
+#include "data/kalibr_calibration.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
 
@@ -122,11 +125,11 @@ TEST_F(CmdPlayback, StartAndDurationPlayPartOfTheSequence) {
   EXPECT_NEAR(data::nsToSec(traj.front().t_ns - gt.front().t_ns), 2.0, 0.06);
 }
 
-TEST_F(CmdPlayback, TumViFolderWithPartialMocapAndSixteenBitImages) {
-  // The TUM-VI layout: mav0/cam0 with 16-bit PNGs and no sensor.yaml, imu0, mocap0/data.csv that
-  // covers only the first and last 2 s (as the motion capture room does for most sequences).
-  TempDir tum;
-  const fs::path mav = tum / "mav0", src = fs::path(asl()) / "mav0";
+// Rewrites an ASL folder in the TUM-VI layout: mav0/cam0 with 16-bit PNGs and no sensor.yaml,
+// imu0, and mocap0/data.csv without the ground truth between gap_from_s and gap_to_s (the motion
+// capture room sees most TUM-VI sequences only at their start and end).
+void writeTumViFolder(const fs::path& asl, const fs::path& root, double gap_from_s, double gap_to_s) {
+  const fs::path mav = root / "mav0", src = asl / "mav0";
   fs::create_directories(mav / "cam0/data");
   fs::create_directories(mav / "imu0");
   fs::create_directories(mav / "mocap0");
@@ -137,19 +140,21 @@ TEST_F(CmdPlayback, TumViFolderWithPartialMocapAndSixteenBitImages) {
     grey.convertTo(wide, CV_16U, 256.0);
     cv::imwrite((mav / "cam0/data" / e.path().filename()).string(), wide);
   }
-  const auto gt = data::readTrajectory(gtCsv());
+  const auto gt = data::readTrajectory((src / "state_groundtruth_estimate0/data.csv").string());
   std::ofstream mocap(mav / "mocap0/data.csv");
   mocap << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
   mocap.precision(17);
-  size_t kept = 0;
   for (const auto& p : gt) {
     const double t = data::nsToSec(p.t_ns - gt.front().t_ns);
-    if (t > 2.0 && t < 4.0) continue;
-    mocap << p.t_ns << "," << p.p_W_B.x() << "," << p.p_W_B.y() << "," << p.p_W_B.z() << "," << p.q_W_B.w()
-          << "," << p.q_W_B.x() << "," << p.q_W_B.y() << "," << p.q_W_B.z() << "\n";
-    ++kept;
+    if (t > gap_from_s && t < gap_to_s) continue;
+    mocap << p.t_ns << "," << p.p_W_B.x() << "," << p.p_W_B.y() << "," << p.p_W_B.z() << "," << p.q_W_B.w() << ","
+          << p.q_W_B.x() << "," << p.q_W_B.y() << "," << p.q_W_B.z() << "\n";
   }
-  mocap.close();
+}
+
+TEST_F(CmdPlayback, TumViFolderWithPartialMocapAndSixteenBitImages) {
+  TempDir tum;
+  writeTumViFolder(asl(), tum.path(), 2.0, 4.0);
 
   TempDir out;
   std::string log;
@@ -164,7 +169,6 @@ TEST_F(CmdPlayback, TumViFolderWithPartialMocapAndSixteenBitImages) {
   const double matched = summaryValue(out / "summary.yaml", "ate_poses");
   EXPECT_LT(matched, poses - 30) << "poses in the 2 s without motion capture are not evaluated";
   EXPECT_GT(matched, 40.0);
-  (void)kept;
 
   // Without the user's calibration the preset's TUM-VI camera (512x512) does not fit these images.
   EXPECT_EQ(runAdugs("run -q --dataset tum-vi " + tum.path().string() + " --out " + out.path().string(), &log), 2);
@@ -219,6 +223,41 @@ TEST_F(CmdPlayback, ConfigPlaybackMapSetsTopicsAndTheCommandLineWins) {
             2)
       << log;
   EXPECT_NE(log.find("image_topik"), std::string::npos) << log;
+}
+
+// The TUM-VI preset end to end on a fisheye sequence: the simulator renders the room through the
+// preset's own 512x512 equidistant camera along the real EuRoC V1_01 flight with its real IMU
+// (hybrid mode), the folder is written in the TUM-VI layout, and `adugs run --dataset tum-vi`
+// plays it with the built-in calibration. Measured 2026-11-25 on 20 s: ATE 0.019 m.
+TEST(CmdPlaybackTumVi, FisheyeSequenceRunsWithThePresetCalibration) {
+  const auto micro = sharedDataDir() / "euroc_v101_micro";
+  ADUGS_REQUIRE_SHARED(micro);
+  TempDir dir;
+  const data::KalibrCamera tumvi =
+      data::parseKalibrCamchain(data::presetCalibrationText("tum-vi", "camchain-imucam.yaml"), "tum-vi preset");
+  data::CameraCalibration camera = tumvi.camera;
+  camera.rate_hz = 20;
+  data::writeEurocCameraYaml((dir / "sensor.yaml").string(), camera);
+  std::string log;
+  ASSERT_EQ(runAdugs("sim --scene room --level none --duration 12 --trajectory " +
+                         (micro / "groundtruth/V1_01_easy_vicon2gt.csv").string() + " --imu " +
+                         (micro / "mav0/imu0/data.csv").string() + " --calib " + (dir / "sensor.yaml").string() +
+                         " --out " + (dir / "asl").string(),
+                     &log),
+            0)
+      << log;
+  writeTumViFolder(dir / "asl", dir / "tumvi", 5.0, 8.0);
+  ASSERT_EQ(runAdugs("run -q --dataset tum-vi " + (dir / "tumvi").string() + " --config " +
+                         std::string(ADUGS_SOURCE_DIR) + "/data/config/euroc.yaml --out " + (dir / "out").string(),
+                     &log),
+            0)
+      << log;
+  const fs::path summary = dir / "out/summary.yaml";
+  EXPECT_EQ(summaryValue(summary, "resets"), 0.0);
+  const double ate = summaryValue(summary, "ate_se3_rmse_m");
+  EXPECT_GT(ate, 0.0);
+  EXPECT_LT(ate, 0.06);
+  EXPECT_LT(summaryValue(summary, "ate_poses"), summaryValue(summary, "poses") - 40);
 }
 
 TEST(CmdBagInfo, PrintsTopicsOfTheRealT265BagAndRefusesBrokenFiles) {

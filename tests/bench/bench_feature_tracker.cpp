@@ -27,7 +27,7 @@ void addFrameTimeCounters(benchmark::State& state, std::vector<double> ms) {
   state.counters["frame_p50_ms"] = ms[ms.size() / 2];
   state.counters["frame_p90_ms"] = ms[ms.size() * 9 / 10];
 }
-using adugs::vio::CameraModel;
+using adugs::data::CameraModel;
 using adugs::vio::FeatureTracker;
 using adugs::vio::FeatureTrackerOptions;
 

@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "data/camera_model.h"
 #include "data/euroc_reader.h"
 #include "data/sim_renderer.h"
 #include "data/sim_scene.h"
 #include "data/trajectory_io.h"
-#include "vio/camera_model.h"
 #include "vio/feature_tracker.h"
 #include "vio/sliding_window_estimator.h"
 
@@ -123,7 +123,7 @@ int main(int argc, char** argv) try {
   data::SimRenderer renderer{data::SimCamera{}};
 
   data::EurocReader reader(dir);
-  const vio::CameraModel camera(reader.camera());
+  const data::CameraModel camera(reader.camera());
   const Eigen::Isometry3d T_B_C = reader.camera().T_B_C;
   vio::FeatureTrackerOptions tracker_options;
   tracker_options.anchor_alignment = anchors;

@@ -4,6 +4,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "calib/corner_csv.h"
+#include "data/camera_model.h"
 #include "data/input_error.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
@@ -15,6 +16,29 @@ void expectWithin(const PinholeCamera& got, const PinholeCamera& truth, double r
   for (int i = 0; i < 4; ++i)
     EXPECT_NEAR(got.params[i], truth.params[i], rel * std::abs(truth.params[i]))
         << "param " << i;
+}
+
+// The calibration's parameter block is the product's camera model (tests/data/test_camera_model
+// checks the maths): same pixels, and unproject says when a fisheye pixel has no z = 1 ray.
+TEST(PinholeCamera, IsTheDataCameraModel) {
+  for (const PinholeCamera& cam : {synth::eurocLikeCamera(), synth::fisheyeCamera()}) {
+    const data::CameraModel model(cam.toEuroc());
+    for (const Eigen::Vector3d& p :
+         {Eigen::Vector3d(0.1, -0.2, 1.0), Eigen::Vector3d(-0.6, 0.5, 0.9)}) {
+      Eigen::Vector2d a, b;
+      ASSERT_TRUE(cam.project(p, a));
+      ASSERT_TRUE(model.project(p, &b));
+      EXPECT_EQ(a, b);
+      Eigen::Vector3d ray;
+      ASSERT_TRUE(cam.unproject(a, ray));
+      EXPECT_EQ(ray, model.unproject(a));
+    }
+    Eigen::Vector2d uv;
+    EXPECT_FALSE(cam.project({0, 0, -1}, uv));
+  }
+  // The fisheye's image corner is more than 90 degrees off-axis.
+  Eigen::Vector3d ray;
+  EXPECT_FALSE(synth::fisheyeCamera().unproject({0, 0}, ray));
 }
 
 TEST(IntrinsicsCalibrator, RecoversRadtanFromNoisySyntheticViews) {

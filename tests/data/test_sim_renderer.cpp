@@ -19,46 +19,51 @@ Eigen::Isometry3d pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   return T;
 }
 
-TEST(SimCamera, ProjectUnprojectRoundTrip) {
-  const SimCamera cam;  // EuRoC cam0 radtan
-  for (double u = 0; u < cam.width; u += 37.5)
-    for (double v = 0; v < cam.height; v += 29.5) {
-      Eigen::Vector2d uv;
-      ASSERT_TRUE(cam.project(cam.unproject({u, v}) * 2.5, &uv));
-      EXPECT_LT((uv - Eigen::Vector2d(u, v)).norm(), 1e-9);
-    }
+// The camera of the marker tests, looking along world +x, tilted.
+Eigen::Isometry3d markerViewPose() {
+  return pose(eulerZyxToRotation(0.1, -0.05, 0.03) * eulerZyxToRotation(-M_PI / 2, 0, -M_PI / 2),
+              Eigen::Vector3d(0.2, -0.1, 1.3));
 }
 
-// Checkerboard markers (2x2 checker quads) at known 3-D points, rendered with the EuRoC lens from a
-// tilted pose; the X-corner found by cornerSubPix must sit on the projection of the 3-D point.
-TEST(SimRenderer, MarkerCornersReprojectSubPixel) {
+// A TUM-VI-like fisheye (512x512 equidistant).
+SimCamera fisheyeCamera() {
+  SimCamera cam;
+  cam.width = cam.height = 512;
+  cam.fx = 190.97;
+  cam.fy = 190.97;
+  cam.cx = 254.93;
+  cam.cy = 256.9;
+  cam.distortion_model = DistortionModel::kEquidistant;
+  cam.distortion = {0.00348, 0.000715, -0.00205, 0.000203};
+  return cam;
+}
+
+// Checkerboard markers (2x2 checker quads) at known 3-D points, rendered from a tilted pose; the
+// X-corner found by cornerSubPix must sit on the projection of the 3-D point.
+struct Marker {
+  Eigen::Vector3d center, normal;
+};
+
+void expectMarkerCornersReprojectSubPixel(const SimCamera& cam, const std::vector<Marker>& markers,
+                                          double size_m, const std::string& name) {
   SimScene scene;
   SimRng rng(1);
   const int checker = scene.addTexture(makeTexture(SimTextureKind::kChecker, 64, rng));
   scene.background = 128;
-  const Eigen::Isometry3d T_W_C =
-      pose(eulerZyxToRotation(0.1, -0.05, 0.03) * eulerZyxToRotation(-M_PI / 2, 0, -M_PI / 2),
-           Eigen::Vector3d(0.2, -0.1, 1.3));  // camera looking along world +x
-  std::vector<Eigen::Vector3d> centers;
-  for (double y : {-1.6, -0.6, 0.4, 1.4})
-    for (double z : {0.5, 1.3, 2.1}) {
-      const Eigen::Vector3d c(3.0 + 0.3 * y, y, z);
-      // Marker facing the camera roughly, with some slant.
-      const Eigen::Vector3d normal = Eigen::Vector3d(-1, 0.3 * y, 0.1).normalized();
-      scene.static_quads.push_back(makeFacingQuad(c, normal, Eigen::Vector3d::UnitZ(), 0.4, 0.4, checker, 0));
-      scene.static_quads.back().texels_u = scene.static_quads.back().texels_v = 64;
-      centers.push_back(c);
-    }
-  const SimCamera cam;
+  for (const Marker& m : markers) {
+    scene.static_quads.push_back(
+        makeFacingQuad(m.center, m.normal, Eigen::Vector3d::UnitZ(), size_m, size_m, checker, 0));
+    scene.static_quads.back().texels_u = scene.static_quads.back().texels_v = 64;
+  }
   SimRenderer renderer(cam);
   SimFrame frame;
-  renderer.render(scene, T_W_C, 0, SimRenderOptions{}, &frame);
+  renderer.render(scene, markerViewPose(), 0, SimRenderOptions{}, &frame);
 
   int checked = 0;
   double worst = 0;
-  for (const Eigen::Vector3d& p_W : centers) {
+  for (const Marker& m : markers) {
     Eigen::Vector2d uv;
-    ASSERT_TRUE(cam.project(T_W_C.inverse() * p_W, &uv));
+    ASSERT_TRUE(cam.project(markerViewPose().inverse() * m.center, &uv));
     if (uv.x() < 12 || uv.y() < 12 || uv.x() > cam.width - 12 || uv.y() > cam.height - 12) continue;
     std::vector<cv::Point2f> corner{cv::Point2f(float(uv.x() + 1.3), float(uv.y() - 1.1))};
     cv::cornerSubPix(frame.image, corner, cv::Size(5, 5), cv::Size(-1, -1),
@@ -67,10 +72,36 @@ TEST(SimRenderer, MarkerCornersReprojectSubPixel) {
     worst = std::max(worst, err);
     ++checked;
   }
-  RecordProperty("worst_corner_error_px", std::to_string(worst));
-  RecordProperty("corners_checked", checked);
-  EXPECT_GE(checked, 8);
-  EXPECT_LT(worst, 0.1) << "pixels";
+  testing::Test::RecordProperty("worst_corner_error_px_" + name, std::to_string(worst));
+  testing::Test::RecordProperty("corners_checked_" + name, checked);
+  EXPECT_GE(checked, 8) << name;
+  EXPECT_LT(worst, 0.1) << name << " pixels";
+}
+
+// The EuRoC lens: a grid of markers in front of the camera.
+TEST(SimRenderer, MarkerCornersReprojectSubPixel) {
+  std::vector<Marker> markers;
+  for (double y : {-1.6, -0.6, 0.4, 1.4})
+    for (double z : {0.5, 1.3, 2.1})  // facing the camera roughly, with some slant
+      markers.push_back({{3.0 + 0.3 * y, y, z}, Eigen::Vector3d(-1, 0.3 * y, 0.1).normalized()});
+  expectMarkerCornersReprojectSubPixel(SimCamera(), markers, 0.4, "radtan");
+}
+
+// The fisheye: markers 1.5 m away on rings out to 72 degrees off-axis, where the lens compresses
+// the image most.
+TEST(SimRenderer, FisheyeMarkerCornersReprojectSubPixel) {
+  const Eigen::Isometry3d T_W_C = markerViewPose();
+  std::vector<Marker> markers;
+  for (double off_axis_deg : {0.0, 35.0, 60.0, 72.0})
+    for (double around_deg : {20.0, 110.0, 200.0, 290.0}) {
+      const double th = off_axis_deg * M_PI / 180, ph = around_deg * M_PI / 180;
+      const Eigen::Vector3d dir_C(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph),
+                                  std::cos(th));
+      const Eigen::Vector3d slant(0.1, -0.05, 0);
+      markers.push_back({T_W_C * (1.5 * dir_C), T_W_C.linear() * (slant - dir_C).normalized()});
+      if (off_axis_deg == 0) break;
+    }
+  expectMarkerCornersReprojectSubPixel(fisheyeCamera(), markers, 0.35, "equidistant");
 }
 
 SimScene dynamicScene(const std::string& name, SimLevel level, const SineTrajectory& traj) {
@@ -117,6 +148,48 @@ TEST(SimRenderer, MaskEqualsObjectPixels) {
   }
 }
 
+// The fisheye sees the whole street around it; the corners beyond its image circle (85 degrees
+// off-axis) are black with no ground truth, and the mask still equals the object pixels.
+TEST(SimRenderer, FisheyeImageCircle) {
+  const int64_t t0 = 1000000000;
+  const SineTrajectory traj = makeSceneTrajectory("street", 5, t0, t0 + secToNs(10));
+  const SimScene scene = dynamicScene("street", SimLevel::kHigh, traj);
+  const SimCamera cam = fisheyeCamera();
+  SimRenderer renderer(cam);
+  const double max_tan = std::tan(85.0 * M_PI / 180.0);
+  int frames_with_objects = 0;
+  for (double ts = 0; ts < 10; ts += 2.5) {
+    const int64_t t = t0 + secToNs(ts);
+    SimFrame f;
+    renderer.render(scene, cameraPose(traj, t), t, SimRenderOptions{}, &f);
+    int outside = 0, dark_outside = 0, lit_inside = 0, inside = 0;
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const bool in = cam.unproject({double(x), double(y)}).head<2>().norm() < max_tan;
+        if (in) {
+          ++inside;
+          lit_inside += f.image.at<uint8_t>(y, x) > 0;
+        } else {
+          ++outside;
+          dark_outside += f.image.at<uint8_t>(y, x) == 0;
+          EXPECT_EQ(f.object_ids.at<uint16_t>(y, x), 0);
+          EXPECT_TRUE(std::isinf(f.depth.at<float>(y, x)));
+        }
+      }
+    EXPECT_GT(outside, 10000);  // the four corners
+    EXPECT_EQ(dark_outside, outside);
+    EXPECT_GT(lit_inside, 0.99 * inside);
+    SimRenderOptions flat;
+    flat.static_value = 0;
+    flat.object_value = 255;
+    SimFrame m;
+    renderer.render(scene, cameraPose(traj, t), t, flat, &m);
+    EXPECT_EQ(cv::norm(m.image, m.mask, cv::NORM_INF), 0) << "t=" << ts;
+    frames_with_objects += m.boxes.empty() ? 0 : 1;
+  }
+  EXPECT_GT(frames_with_objects, 1);
+}
+
 // Independent check without distortion: one box in front of a wall; its mask is the set of pixel
 // centres inside the convex hull of its projected corners.
 TEST(SimRenderer, MaskMatchesProjectedSilhouette) {
@@ -135,7 +208,7 @@ TEST(SimRenderer, MaskMatchesProjectedSilhouette) {
   scene.objects.push_back(obj);
 
   SimCamera cam;
-  cam.k1 = cam.k2 = cam.p1 = cam.p2 = 0;
+  cam.distortion = {0, 0, 0, 0};
   const Eigen::Isometry3d T_W_C =
       pose(eulerZyxToRotation(0.05, 0.1, 0) * eulerZyxToRotation(-M_PI / 2, 0, -M_PI / 2),
            Eigen::Vector3d(0, 0, 1.2));

@@ -130,6 +130,47 @@ TEST(SimSequence, HybridFollowsSharedV101) {
   EXPECT_EQ(first_imu, 1403715273262142976);
 }
 
+// `adugs sim --calib` with an equidistant cam0/sensor.yaml (a TUM-VI-like 512x512 fisheye):
+// the sequence carries the same calibration, its corners beyond the image circle are black and
+// the centre sees the world.
+TEST(SimSequence, HybridRendersAnEquidistantCalibration) {
+  const fs::path root = test::sharedDataDir() / "euroc_v101_micro";
+  ADUGS_REQUIRE_SHARED(root);
+  test::TempDir dir("adugs_sim_fisheye");
+  CameraCalibration fisheye = readEurocCameraYaml((root / "mav0/cam0/sensor.yaml").string());
+  fisheye.width = fisheye.height = 512;
+  fisheye.fx = 190.97847715128717;
+  fisheye.fy = 190.9733070521226;
+  fisheye.cx = 254.93170605935475;
+  fisheye.cy = 256.8974428996504;
+  fisheye.distortion_model = DistortionModel::kEquidistant;
+  fisheye.distortion = {0.0034823894022493434, 0.0007150348452162257, -0.0020532361418706202,
+                        0.00020293673591811182};
+  writeEurocCameraYaml((dir / "sensor.yaml").string(), fisheye);
+  SimSequenceOptions o = smallOptions();
+  o.scene = "room";
+  o.duration_s = 0.5;
+  o.trajectory_path = (root / "groundtruth/V1_01_easy_vicon2gt.csv").string();
+  o.imu_path = (root / "mav0/imu0/data.csv").string();
+  o.calib_path = (dir / "sensor.yaml").string();
+  generateSimSequence(o, (dir / "seq").string());
+
+  EurocReader reader((dir / "seq").string());
+  EXPECT_EQ(reader.camera().distortion_model, DistortionModel::kEquidistant);
+  EXPECT_EQ(reader.camera().distortion, fisheye.distortion);
+  EXPECT_EQ(reader.camera().fx, fisheye.fx);
+  int frames = 0;
+  Measurement m;
+  while (reader.next(m)) {
+    if (!m.isFrame()) continue;
+    ++frames;
+    ASSERT_EQ(m.frame.image.size(), cv::Size(512, 512));
+    EXPECT_LT(cv::mean(m.frame.image(cv::Rect(0, 0, 20, 20)))[0], 1.0) << "corner: noise only";
+    EXPECT_GT(cv::mean(m.frame.image(cv::Rect(196, 196, 120, 120)))[0], 20) << "centre";
+  }
+  EXPECT_EQ(frames, 11);
+}
+
 // A given imu0/sensor.yaml sets the noise the synthetic IMU is drawn with, and the written
 // sensor.yaml carries it on to the estimator.
 TEST(SimSequence, SimulatesTheGivenImuNoiseFigures) {

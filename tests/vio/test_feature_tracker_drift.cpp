@@ -20,7 +20,7 @@ constexpr int64_t kT0 = 1700000000000000000;
 
 // One tracker and its error bookkeeping.
 struct DriftProbe {
-  explicit DriftProbe(bool anchors, const CameraModel& camera)
+  explicit DriftProbe(bool anchors, const data::CameraModel& camera)
       : tracker(options(anchors), camera), camera(camera) {}
   static FeatureTrackerOptions options(bool anchors) {
     FeatureTrackerOptions o;
@@ -60,7 +60,7 @@ struct DriftProbe {
   }
 
   FeatureTracker tracker;
-  CameraModel camera;
+  data::CameraModel camera;
   std::map<int64_t, Eigen::Vector3d> points;
   std::map<int64_t, std::vector<Eigen::Vector2d>> errors;
   std::vector<double> change30;
@@ -73,9 +73,7 @@ TEST(FeatureTrackerDrift, AnchorsHoldTracksToTheirFirstView) {
   const data::SimScene scene = data::buildStaticScene("street", 1, path);
   const data::SimCamera sim_camera;
   data::SimRenderer renderer(sim_camera);
-  const CameraModel camera(sim_camera.width, sim_camera.height, sim_camera.fx, sim_camera.fy,
-                           sim_camera.cx, sim_camera.cy, CameraModel::Distortion::kRadialTangential,
-                           {sim_camera.k1, sim_camera.k2, sim_camera.p1, sim_camera.p2});
+  const data::CameraModel camera = sim_camera.model();
   const Eigen::Isometry3d T_B_C = data::defaultSimT_B_C();
   DriftProbe with(true, camera), without(false, camera);
   data::SimRenderOptions render_options;

@@ -8,11 +8,11 @@
 #include <map>
 #include <optional>
 
+#include "data/camera_model.h"
 #include "data/euroc_reader.h"
 #include "data/sim_sequence.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/camera_model.h"
 #include "vio/feature_tracker.h"
 #include "vio/sliding_window_estimator.h"
 #include "vio/trajectory_eval.h"
@@ -42,7 +42,7 @@ PipelineRun runPipeline(const std::string& root,
                         const std::function<bool(const data::ImuSample&)>& drop_imu = {},
                         const PipelineSetup& setup = {}) {
   data::EurocReader reader(root);
-  const CameraModel camera(reader.camera());
+  const data::CameraModel camera(reader.camera());
   FeatureTracker tracker(FeatureTrackerOptions{}, camera);
   ImuPreintegrationOptions imu;
   imu.gyro_noise_density = reader.imuNoise().gyro_noise_density;

@@ -1,22 +1,16 @@
-#include "vio/camera_model.h"
+#include "data/camera_model.h"
 
+#include <Eigen/LU>
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
-#include <string>
 
-namespace adugs::vio {
+namespace adugs::data {
 namespace {
 
 constexpr int kMaxIterations = 50;
 constexpr double kStepTolerance = 1e-12;  // normalised units; the result is good to ~1e-10
 
-CameraModel::Distortion fromData(data::DistortionModel model) {
-  return model == data::DistortionModel::kEquidistant ? CameraModel::Distortion::kEquidistant
-                                                      : CameraModel::Distortion::kRadialTangential;
-}
-
-std::array<double, 4> coeffsOf(const data::CameraCalibration& c) {
+std::array<double, 4> coeffsOf(const CameraCalibration& c) {
   if (c.distortion.size() != 4)
     throw std::invalid_argument("CameraModel: expected 4 distortion coefficients, got " +
                                 std::to_string(c.distortion.size()));
@@ -24,6 +18,27 @@ std::array<double, 4> coeffsOf(const data::CameraCalibration& c) {
 }
 
 }  // namespace
+
+bool parseDistortionModel(const std::string& name, DistortionModel& out) {
+  if (name == "radtan" || name == "radial-tangential" || name == "radtan4") {
+    out = DistortionModel::kRadialTangential;
+    return true;
+  }
+  if (name == "equidistant" || name == "equi" || name == "equi4" || name == "fisheye") {
+    out = DistortionModel::kEquidistant;
+    return true;
+  }
+  return false;
+}
+
+std::string kalibrName(DistortionModel model) {
+  return model == DistortionModel::kRadialTangential ? "radtan" : "equidistant";
+}
+
+CameraModel::Distortion CameraModel::fromModel(DistortionModel model) {
+  return model == DistortionModel::kEquidistant ? Distortion::kEquidistant
+                                                : Distortion::kRadialTangential;
+}
 
 CameraModel::CameraModel(int width, int height, double fx, double fy, double cx, double cy,
                          Distortion distortion, const std::array<double, 4>& coeffs)
@@ -38,8 +53,8 @@ CameraModel::CameraModel(int width, int height, double fx, double fy, double cx,
   validate();
 }
 
-CameraModel::CameraModel(const data::CameraCalibration& c)
-    : CameraModel(c.width, c.height, c.fx, c.fy, c.cx, c.cy, fromData(c.distortion_model),
+CameraModel::CameraModel(const CameraCalibration& c)
+    : CameraModel(c.width, c.height, c.fx, c.fy, c.cx, c.cy, fromModel(c.distortion_model),
                   coeffsOf(c)) {}
 
 void CameraModel::validate() const {
@@ -60,46 +75,43 @@ cv::Mat CameraModel::distortionCoeffs() const {
 }
 
 Eigen::Vector2d CameraModel::distort(const Eigen::Vector2d& xn, Eigen::Matrix2d* jacobian) const {
-  const double x = xn.x(), y = xn.y();
-  switch (distortion_) {
-    case Distortion::kNone:
-      if (jacobian) jacobian->setIdentity();
-      return xn;
-    case Distortion::kRadialTangential: {
-      const double k1 = k_[0], k2 = k_[1], p1 = k_[2], p2 = k_[3];
-      const double r2 = x * x + y * y;
-      const double radial = 1.0 + k1 * r2 + k2 * r2 * r2;
-      if (jacobian) {
-        const double dradial = 2.0 * (k1 + 2.0 * k2 * r2);  // d radial / d(x or y) = dradial * x
-        (*jacobian)(0, 0) = radial + dradial * x * x + 2.0 * p1 * y + 6.0 * p2 * x;
-        (*jacobian)(0, 1) = dradial * x * y + 2.0 * p1 * x + 2.0 * p2 * y;
-        (*jacobian)(1, 0) = (*jacobian)(0, 1);
-        (*jacobian)(1, 1) = radial + dradial * y * y + 6.0 * p1 * y + 2.0 * p2 * x;
-      }
-      return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-              y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
-    }
-    case Distortion::kEquidistant: {
-      const double r = std::sqrt(x * x + y * y);
-      if (r < 1e-12) {  // theta_d / r -> 1 at the centre
-        if (jacobian) jacobian->setIdentity();
-        return xn;
-      }
-      const double th = std::atan(r), th2 = th * th;
-      const double poly = 1.0 + th2 * (k_[0] + th2 * (k_[1] + th2 * (k_[2] + th2 * k_[3])));
-      const double thd = th * poly;
-      const double s = thd / r;
-      if (jacobian) {
-        const double dthd_dth =
-            1.0 + th2 * (3 * k_[0] + th2 * (5 * k_[1] + th2 * (7 * k_[2] + th2 * 9 * k_[3])));
-        const double dthd_dr = dthd_dth / (1.0 + r * r);
-        const double ds_dr = (dthd_dr * r - thd) / (r * r);
-        *jacobian = s * Eigen::Matrix2d::Identity() + (ds_dr / r) * xn * xn.transpose();
-      }
-      return s * xn;
-    }
+  if (distortion_ == Distortion::kNone) {
+    if (jacobian) jacobian->setIdentity();
+    return xn;
   }
-  return xn;
+  const bool radtan = distortion_ == Distortion::kRadialTangential;
+  Eigen::Vector2d xd;
+  distortPoint(radtan ? DistortionModel::kRadialTangential : DistortionModel::kEquidistant,
+               k_.data(), xn.x(), xn.y(), xd.x(), xd.y());
+  if (!jacobian) return xd;
+
+  // The analytic Jacobian of the same formula.
+  const double x = xn.x(), y = xn.y();
+  const double r2 = x * x + y * y;
+  if (radtan) {
+    const double k1 = k_[0], k2 = k_[1], p1 = k_[2], p2 = k_[3];
+    const double radial = 1.0 + k1 * r2 + k2 * r2 * r2;
+    const double dradial = 2.0 * (k1 + 2.0 * k2 * r2);  // d radial / d(x or y) = dradial * x
+    (*jacobian)(0, 0) = radial + dradial * x * x + 2.0 * p1 * y + 6.0 * p2 * x;
+    (*jacobian)(0, 1) = dradial * x * y + 2.0 * p1 * x + 2.0 * p2 * y;
+    (*jacobian)(1, 0) = (*jacobian)(0, 1);
+    (*jacobian)(1, 1) = radial + dradial * y * y + 6.0 * p1 * y + 2.0 * p2 * x;
+    return xd;
+  }
+  const double r = std::sqrt(r2);
+  if (r < 1e-12) {  // distortPoint's centre: the identity
+    jacobian->setIdentity();
+    return xd;
+  }
+  const double th = std::atan(r), th2 = th * th;
+  const double thd = th * (1.0 + th2 * (k_[0] + th2 * (k_[1] + th2 * (k_[2] + th2 * k_[3]))));
+  const double s = thd / r;
+  const double dthd_dth =
+      1.0 + th2 * (3 * k_[0] + th2 * (5 * k_[1] + th2 * (7 * k_[2] + th2 * 9 * k_[3])));
+  const double dthd_dr = dthd_dth / (1.0 + r * r);
+  const double ds_dr = (dthd_dr * r - thd) / (r * r);
+  *jacobian = s * Eigen::Matrix2d::Identity() + (ds_dr / r) * xn * xn.transpose();
+  return xd;
 }
 
 Eigen::Vector2d CameraModel::undistort(const Eigen::Vector2d& xd) const {
@@ -164,4 +176,4 @@ bool CameraModel::project(const Eigen::Vector3d& p_C, Eigen::Vector2d* uv) const
   return true;
 }
 
-}  // namespace adugs::vio
+}  // namespace adugs::data
