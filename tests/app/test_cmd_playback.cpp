@@ -4,6 +4,7 @@
 // bad input ends with exit code 2 and a message naming the problem.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -123,6 +124,15 @@ TEST_F(CmdPlayback, StartAndDurationPlayPartOfTheSequence) {
   const auto traj = data::readTrajectory((out / "trajectory.tum").string());
   const auto gt = data::readTrajectory(gtCsv());
   EXPECT_NEAR(data::nsToSec(traj.front().t_ns - gt.front().t_ns), 2.0, 0.06);
+
+  // --realtime paces the playback at sensor time: 1 s of data cannot take less than 1 s.
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(runAdugs("run -q --estimator imu-only --dataset viode " + bag("viode") + kalibr() +
+                         " --start 1 --duration 1 --realtime --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.95);
 }
 
 // Rewrites an ASL folder in the TUM-VI layout: mav0/cam0 with 16-bit PNGs and no sensor.yaml,

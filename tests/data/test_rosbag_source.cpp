@@ -9,6 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <rosbag/bag.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+
 #include "data/dataset_preset.h"
 #include "data/euroc_reader.h"
 #include "data/input_error.h"
@@ -307,6 +311,65 @@ TEST(RosbagRealBags, BrokenBagsAreCleanErrorsNamingTheFile) {
   // Not a bag at all.
   const std::string text_err = errorOf([&] { readBagInfo((fixtures() / "LICENSE.rosbag.js-Apache2.txt").string()); });
   EXPECT_NE(text_err.find("not a readable ROS1 bag"), std::string::npos) << text_err;
+}
+
+}  // namespace
+}  // namespace adugs::data
+
+namespace adugs::data {
+namespace {
+
+// IMU stamps that repeat or go backwards (a driver hiccup), written by the C++ rosbag library:
+// within the reorder window a backwards sample is put back in order; a repeated stamp is dropped
+// and counted; a sample older than what was already released is dropped as late.
+TEST(RosbagImuStamps, RepeatedAndLateSamplesAreDroppedAndCounted) {
+  test::TempDir dir("adugs_imu_stamps");
+  const std::string path = (dir / "imu.bag").string();
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    const ros::Time t0(1700000000, 0);
+    auto imu = [&](double t_s, double record_s) {
+      sensor_msgs::Imu m;
+      m.header.stamp = t0 + ros::Duration(t_s);
+      m.linear_acceleration.z = 9.81;
+      bag.write("/imu0", t0 + ros::Duration(record_s), m);
+    };
+    sensor_msgs::Image image;
+    image.width = 4;
+    image.height = 2;
+    image.encoding = "mono8";
+    image.step = 4;
+    image.data.assign(8, 128);
+    for (int k = 0; k < 40; ++k) {
+      const double t = 0.005 * k;
+      imu(t, t);
+      if (k == 10) imu(t, t + 0.0001);         // the same stamp again: dropped
+      if (k == 20) imu(t - 0.0025, t + 0.0001);  // 2.5 ms back, inside the window: reordered
+      if (k % 10 == 5) {
+        image.header.stamp = t0 + ros::Duration(t);
+        bag.write("/cam0/image_raw", t0 + ros::Duration(t + 0.0002), image);
+      }
+    }
+    imu(0.05, 0.3);  // recorded far too late for its stamp: the window has passed it
+    bag.close();
+  }
+  RosbagSourceOptions o;
+  o.topics.image = "/cam0/image_raw";
+  o.topics.imu = "/imu0";
+  o.reorder_window_ns = 20'000'000;
+  RosbagSource source(path, o);
+  size_t imu = 0, frames = 0;
+  int64_t last = 0;
+  Measurement m;
+  while (source.next(m)) {
+    EXPECT_GT(m.timeNs(), last - (m.isFrame() ? 1 : 0));
+    last = m.timeNs();
+    m.isImu() ? ++imu : ++frames;
+  }
+  EXPECT_EQ(frames, 4u);
+  EXPECT_EQ(imu, 41u);  // 40 + the reordered one
+  EXPECT_EQ(source.counts().imu_dropped, 1u);
+  EXPECT_EQ(source.counts().late_dropped, 1u);
 }
 
 }  // namespace
