@@ -89,6 +89,19 @@ void registerTrackCommand(CLI::App& root) {
                 "also write predicted boxes of tracks without a detection in the frame");
   cmd->add_flag("--recovery", args->sort.observation_centric_recovery,
                 "OC-SORT's observation-centric re-update when a coasting track is found again");
+  tracking::AdaptiveNoiseOptions& r = args->sort.filter;
+  cmd->add_option("--lambda", r.lambda, "adaptive R: R = beta * erf(lambda * innovation RMSE) [1/px]")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--beta-pos", r.beta_pos, "adaptive R: largest R on cx, cy [px^2]")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--beta-size", r.beta_size, "adaptive R: largest R on w, h [px^2]")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--window", r.window, "adaptive R: innovations kept (N)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   cmd->add_flag("--fixed-noise", args->fixed_noise,
                 "fixed measurement noise R = beta instead of the adaptive erf-shaped R (ablation)");
   cmd->callback([args] { runTrack(*args); });

@@ -132,6 +132,8 @@ TEST(CmdTrack, MissingOrBadDetectionsAreNamed) {
   EXPECT_EQ(runAdugs("track --detections " + (dir / "det.txt").string() + " --out " + (dir / "o").string(), &log), 2)
       << log;
   EXPECT_NE(log.find("det.txt:2"), std::string::npos) << log;
+  EXPECT_NE(runAdugs("track --detections " + (dir / "det.txt").string() + " --lambda -1", &log), 0);
+  EXPECT_NE(log.find("--lambda"), std::string::npos) << log;
   EXPECT_NE(runAdugs("track --detections /nonexistent/det.txt", &log), 0);
   EXPECT_NE(log.find("/nonexistent/det.txt"), std::string::npos) << log;
 }
