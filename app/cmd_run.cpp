@@ -34,7 +34,7 @@ struct RunArgs {
   std::string estimator = "vio";
   std::string config_path;
   std::string mask = "none";
-  std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
+  std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder, detector_config;
   bool quiet = false;
 };
 
@@ -108,6 +108,7 @@ void runSequence(const RunArgs& a) {
   v.config_path = a.config_path;
   v.mask = a.mask;
   v.detector_model = a.detector_model;
+  v.detector_config = a.detector_config;
   v.segmenter = a.segmenter;
   v.sam_encoder = a.sam_encoder;
   v.sam_decoder = a.sam_decoder;
@@ -171,7 +172,11 @@ void registerRunCommand(CLI::App& root) {
                   "YOLOX -> SORT -> box segmentation -> refinement")
       ->check(CLI::IsMember({"none", "gt", "detector"}))
       ->capture_default_str();
-  cmd->add_option("--detector-model", args->detector_model, "--mask detector: YOLOX ONNX model")
+  cmd->add_option("--detector-config", args->detector_config,
+                  "--mask detector: darknet .cfg (default: beside the .weights)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--detector-model", args->detector_model,
+                  "--mask detector: YOLOX .onnx or darknet .weights model")
       ->check(CLI::ExistingFile);
   cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))

@@ -1,6 +1,9 @@
-// `adugs track --detections det.txt --out DIR`: the enhanced SORT tracker alone, on a
-// MOTChallenge detection file (the public detections trackers are benchmarked with), writing
-// DIR/tracks.txt in MOTChallenge format for `adugs eval-mot`.
+// `adugs track`: the enhanced SORT tracker, fed either
+//   --detections det.txt                       a MOTChallenge detection file (the public
+//                                              detections trackers are benchmarked with), or
+//   VIDEO --detector-model M [--detector-config C]   a detector run on every frame of a video;
+// writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1), and
+// with --overlay a video of the tracked boxes and their ids.
 //
 // Track output rule (MOT files): a track is written in a frame when a detection was fused into it
 // in that frame and it has min_hits detections (or the sequence is younger than min_hits frames),
@@ -17,6 +20,11 @@
 #include "app/commands.h"
 #include "data/input_error.h"
 #include "data/mot_io.h"
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "tracking/detector_factory.h"
 #include "tracking/sort_tracker.h"
 
 namespace adugs::app {
@@ -25,15 +33,68 @@ namespace fs = std::filesystem;
 
 struct TrackArgs {
   std::string detections, out_dir = "out/track";
+  std::string video, detector_model, detector_config, overlay;
   double min_score = -1e9;
   bool write_coasting = false;
   bool fixed_noise = false;
   tracking::SortOptions sort;
 };
 
+// One frame's worth of detections; false at the end of the input.
+class DetectionFeed {
+ public:
+  explicit DetectionFeed(const TrackArgs& a) : a_(a) {
+    if (!a.detections.empty() == !a.video.empty())
+      throw CLI::ValidationError("input", "give either --detections det.txt or a VIDEO with --detector-model");
+    if (!a.detections.empty()) {
+      file_ = data::readMotFile(a.detections);
+      if (file_.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
+      last_frame_ = file_.rbegin()->first;
+      return;
+    }
+    if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "a VIDEO input needs a detector model");
+    detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
+    if (!video_.open(a.video) || !video_.isOpened())
+      throw data::InputError(a.video, 0, "", "OpenCV cannot open this video");
+  }
+
+  bool next(int frame, std::vector<tracking::Detection>* dets, cv::Mat* image) {
+    dets->clear();
+    if (detector_) {
+      if (!video_.read(*image) || image->empty()) return false;
+      *dets = detector_->detect(*image);
+      return true;
+    }
+    if (frame > last_frame_) return false;
+    if (const auto it = file_.find(frame); it != file_.end())
+      for (const data::MotBox& b : it->second)
+        if (b.confidence >= a_.min_score)
+          dets->push_back(
+              {tracking::Box::fromCorners(b.left, b.top, b.left + b.width, b.top + b.height), 0, b.confidence});
+    return true;
+  }
+
+ private:
+  const TrackArgs& a_;
+  std::map<int, std::vector<data::MotBox>> file_;
+  int last_frame_ = 0;
+  std::unique_ptr<tracking::Detector> detector_;
+  cv::VideoCapture video_;
+};
+
+void drawTracks(cv::Mat& image, const std::vector<tracking::TrackedObject>& tracks, int frame) {
+  for (const tracking::TrackedObject& t : tracks) {
+    const cv::Scalar colour((t.id * 67) % 256, (t.id * 151) % 256, (t.id * 37 + 128) % 256);
+    cv::rectangle(image, t.box.rect(), colour, t.detected ? 2 : 1);
+    cv::putText(image, std::to_string(t.id), {static_cast<int>(t.box.left()), static_cast<int>(t.box.top()) - 3},
+                cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1);
+  }
+  cv::putText(image, "frame " + std::to_string(frame) + ", " + std::to_string(tracks.size()) + " tracks", {8, 20},
+              cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 2);
+}
+
 void runTrack(const TrackArgs& a) {
-  const auto detections = data::readMotFile(a.detections);
-  if (detections.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
+  DetectionFeed feed(a);
   tracking::SortOptions options = a.sort;
   if (a.fixed_noise) options.filter.lambda = 1e6;  // erf saturates at once: R = beta, a fixed R
   tracking::SortTracker tracker(options);
@@ -42,26 +103,33 @@ void runTrack(const TrackArgs& a) {
   std::ofstream out(path);
   if (!out) throw data::InputError(path, 0, "", "cannot write");
   out << std::fixed << std::setprecision(2);
-  const int last_frame = detections.rbegin()->first;
+  cv::VideoWriter overlay;
   size_t rows = 0;
-  for (int frame = 1; frame <= last_frame; ++frame) {
-    std::vector<tracking::Detection> dets;
-    if (const auto it = detections.find(frame); it != detections.end())
-      for (const data::MotBox& b : it->second)
-        if (b.confidence >= a.min_score)
-          dets.push_back({tracking::Box::fromCorners(b.left, b.top, b.left + b.width, b.top + b.height), 0,
-                          b.confidence});
-    for (const tracking::TrackedObject& t : tracker.update(dets)) {
+  int frame = 1;
+  std::vector<tracking::Detection> dets;
+  cv::Mat image;
+  for (; feed.next(frame, &dets, &image); ++frame) {
+    const std::vector<tracking::TrackedObject> tracks = tracker.update(dets);
+    for (const tracking::TrackedObject& t : tracks) {
       if (!t.detected && !a.write_coasting) continue;
       // MOTChallenge: 1-based top-left pixel coordinates.
       out << frame << "," << t.id << "," << t.box.left() + 1 << "," << t.box.top() + 1 << "," << t.box.w << ","
           << t.box.h << ",1,-1,-1,-1\n";
       ++rows;
     }
+    out.flush();  // a killed run keeps the frames already tracked
+    if (!a.overlay.empty() && !image.empty()) {
+      if (!overlay.isOpened() &&
+          !overlay.open(a.overlay, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, image.size()))
+        throw data::InputError(a.overlay, 0, "", "cannot write this video (use .avi)");
+      drawTracks(image, tracks, frame);
+      overlay.write(image);
+    }
+    if (!a.video.empty() && frame % 100 == 0) std::cerr << "track: " << frame << " frames\n" << std::flush;
   }
   out.close();
   if (!out) throw data::InputError(path, 0, "", "write failed");
-  std::cout << "adugs track: " << last_frame << " frames, " << rows << " track boxes -> " << path << "\n";
+  std::cout << "adugs track: " << frame - 1 << " frames, " << rows << " track boxes -> " << path << "\n";
 }
 
 }  // namespace
@@ -70,10 +138,17 @@ void registerTrackCommand(CLI::App& root) {
   auto args = std::make_shared<TrackArgs>();
   args->sort.max_age = 1;
   args->sort.min_hits = 3;
-  CLI::App* cmd = root.add_subcommand("track", "Run the enhanced SORT tracker on MOTChallenge detections");
-  cmd->add_option("--detections", args->detections, "MOTChallenge det.txt (frame,-1,left,top,w,h,score,...)")
-      ->required()
+  CLI::App* cmd = root.add_subcommand(
+      "track", "Run the enhanced SORT tracker on MOTChallenge detections or on a detector's output for a video");
+  cmd->add_option("video", args->video, "video to run the detector on (instead of --detections)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--detections", args->detections, "MOTChallenge det.txt (frame,-1,left,top,w,h,score,...)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--detector-model", args->detector_model, "VIDEO: YOLOX .onnx or darknet .weights")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--detector-config", args->detector_config, "VIDEO: darknet .cfg (default: beside the .weights)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--overlay", args->overlay, "write the tracked boxes and ids over the frames (.avi)");
   cmd->add_option("--out", args->out_dir, "output folder (tracks.txt)")->capture_default_str();
   cmd->add_option("--min-score", args->min_score, "ignore detections scoring below this");
   cmd->add_option("--max-age", args->sort.max_age, "frames a track survives without a detection")

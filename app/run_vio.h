@@ -13,6 +13,7 @@ struct VioRunArgs {
   std::string mask = "none";  // none | gt (the simulator's mask0/ folder) | detector
   // --mask detector: YOLOX ONNX model, box segmenter (grabcut | box | mobilesam + its two ONNX).
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
+  std::string detector_config;  // darknet .cfg ("" = beside the .weights)
   bool quiet = false;
 };
 

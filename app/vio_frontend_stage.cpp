@@ -7,7 +7,7 @@
 #include "data/input_error.h"
 #include "tracking/dynamic_masker.h"
 #include "tracking/segmenter_factory.h"
-#include "tracking/yolox_detector.h"
+#include "tracking/detector_factory.h"
 
 namespace adugs::app {
 namespace {
@@ -46,8 +46,8 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
   if (options_.mask == "detector") {
     if (options_.detector_model.empty())
       throw data::InputError("--detector-model", 0, "detector_model",
-                             "--mask detector needs a YOLOX ONNX model");
-    detector_ = std::make_unique<tracking::YoloxDetector>(options_.detector_model);
+                             "--mask detector needs a detector model (YOLOX .onnx or darknet .weights)");
+    detector_ = tracking::makeDetector(options_.detector_model, options_.detector_config);
     masker_ = std::make_unique<tracking::DynamicMasker>(
         tracking::DynamicMaskerOptions{},
         tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));

@@ -18,7 +18,7 @@
 #include "vio/gyro_rotation_predictor.h"
 
 namespace adugs::tracking {
-class YoloxDetector;
+class Detector;
 class DynamicMasker;
 }  // namespace adugs::tracking
 
@@ -39,6 +39,7 @@ struct FrontEndStageOptions {
   std::string mask = "none";  // none | gt | detector
   std::string mask_dir;       // --mask gt: the simulator's mask0/data folder
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
+  std::string detector_config;  // darknet .cfg ("" = beside the .weights)
 };
 
 class FrontEndStage {
@@ -63,7 +64,7 @@ class FrontEndStage {
   vio::FeatureTracker tracker_;
   Eigen::Matrix3d R_B_C_;
   FrontEndStageOptions options_;
-  std::unique_ptr<tracking::YoloxDetector> detector_;
+  std::unique_ptr<tracking::Detector> detector_;
   std::unique_ptr<tracking::DynamicMasker> masker_;
   vio::GyroRotationPredictor gyro_;
   int imu_samples_ = 0;

@@ -19,11 +19,6 @@ int anchorCount(int input_size) {
 
 }  // namespace
 
-const std::set<int>& dynamicCocoClasses() {
-  static const std::set<int> classes{0, 1, 2, 3, 5, 6, 7, 8, 14, 15, 16, 17, 18, 19};
-  return classes;
-}
-
 std::vector<Detection> decodeYoloxOutput(const cv::Mat& output, int input_size, double ratio,
                                          const YoloxOptions& options) {
   std::vector<Detection> out;
@@ -101,20 +96,7 @@ std::vector<Detection> YoloxDetector::detect(const cv::Mat& image) {
   const cv::Mat rows(out.size[1], out.size[2], CV_32F, out.ptr<float>());
   std::vector<Detection> candidates = decodeYoloxOutput(rows, s, ratio, options_);
 
-  // Class-agnostic NMS: the mask needs each object once, and YOLO often reports one vehicle as
-  // both car and truck.
-  std::vector<cv::Rect2d> rects;
-  std::vector<float> scores;
-  for (const Detection& d : candidates) {
-    rects.push_back(d.box.rect());
-    scores.push_back(static_cast<float>(d.score));
-  }
-  std::vector<int> keep;
-  cv::dnn::NMSBoxes(rects, scores, static_cast<float>(options_.score_threshold),
-                    static_cast<float>(options_.nms_iou), keep);
-  std::vector<Detection> kept;
-  for (int k : keep) kept.push_back(candidates[k]);
-  return kept;
+  return suppressOverlaps(candidates, options_.score_threshold, options_.nms_iou);
 }
 
 }  // namespace adugs::tracking

@@ -13,13 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "tracking/sort_tracker.h"
+#include "tracking/detector.h"
 
 namespace adugs::tracking {
-
-// COCO ids of potentially dynamic objects: person, bicycle, car, motorcycle, bus, train, truck,
-// boat, bird, cat, dog, horse, sheep, cow.
-const std::set<int>& dynamicCocoClasses();
 
 struct YoloxOptions {
   int input_size = 416;
@@ -33,13 +29,12 @@ struct YoloxOptions {
 std::vector<Detection> decodeYoloxOutput(const cv::Mat& output, int input_size, double ratio,
                                          const YoloxOptions& options);
 
-class YoloxDetector {
+class YoloxDetector : public Detector {
  public:
   // Throws data::InputError naming the file if it is missing or OpenCV cannot load it, or if its
   // output does not have the YOLOX layout for this input size.
   YoloxDetector(const std::string& onnx_path, const YoloxOptions& options = {});
-  // image: CV_8UC1 or CV_8UC3 (BGR).
-  std::vector<Detection> detect(const cv::Mat& image);
+  std::vector<Detection> detect(const cv::Mat& image) override;
 
  private:
   std::string path_;

@@ -2,7 +2,9 @@
 // TUD-Stadtmitte and OVERALL, shared/data/mot_reference/expected.txt) to 1e-3, and refuses bad input.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <opencv2/videoio.hpp>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -123,6 +125,40 @@ TEST(CmdTrack, PublicDetectionsOfARealSequenceTrackWell) {
   EXPECT_LT(jsonValue(j, "a/tracks.txt", "num_switches"), 20);
   // Coasting boxes are predictions without a detection: more false positives for MOT scoring.
   EXPECT_GT(jsonValue(j, "b/tracks.txt", "num_false_positives"), 2 * jsonValue(j, "a/tracks.txt", "num_false_positives"));
+}
+
+// `adugs track VIDEO --detector-model` on the first 40 frames of OpenCV's pedestrian video with the
+// real Yolo-Fastest model: tracks.txt in MOTChallenge format that eval-mot reads, and an overlay.
+TEST(CmdTrack, DetectorOnARealVideo) {
+  const auto weights = sharedModelsDir() / "yolo-fastest-1.1_coco/yolo-fastest-1.1-xl.weights";
+  ADUGS_REQUIRE_SHARED(weights);
+  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+  ASSERT_TRUE(std::filesystem::exists(video)) << video << " missing: run scripts/setup.sh (opencv-doc)";
+  TempDir dir;
+  {  // a 40-frame clip keeps the test short
+    cv::VideoCapture in(video);
+    cv::Mat frame;
+    cv::VideoWriter out((dir / "clip.avi").string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, {768, 576});
+    for (int k = 0; k < 40 && in.read(frame); ++k) out.write(frame);
+  }
+  std::string log;
+  ASSERT_EQ(runAdugs("track " + (dir / "clip.avi").string() + " --detector-model " + weights.string() +
+                         " --overlay " + (dir / "overlay.avi").string() + " --out " + (dir / "o").string(),
+                     &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("40 frames"), std::string::npos) << log;
+  EXPECT_TRUE(std::filesystem::exists(dir / "overlay.avi"));
+  // Scored against itself: every box matches, so the file is well-formed MOTChallenge output.
+  const std::string tracks = (dir / "o/tracks.txt").string();
+  ASSERT_EQ(runAdugs("eval-mot --gt " + tracks + " --est " + tracks + " --json " + (dir / "m.json").string(), &log), 0)
+      << log;
+  const std::string j = readText(dir / "m.json");
+  EXPECT_EQ(jsonValue(j, "\"overall\"", "mota"), 1.0);
+  EXPECT_GT(jsonValue(j, "\"overall\"", "num_objects"), 40 * 3.0);  // several people per frame
+  // Either input, not both or neither.
+  EXPECT_NE(runAdugs("track --out " + (dir / "p").string(), &log), 0);
+  EXPECT_NE(log.find("--detections"), std::string::npos) << log;
 }
 
 TEST(CmdTrack, MissingOrBadDetectionsAreNamed) {

@@ -1,0 +1,30 @@
+#pragma once
+// An object detector: an image in, boxes of potentially dynamic objects out (after NMS). The
+// backends are chosen from the model file (tracking/detector_factory.h).
+#include <set>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "tracking/sort_tracker.h"
+
+namespace adugs::tracking {
+
+class Detector {
+ public:
+  virtual ~Detector() = default;
+  // image: CV_8UC1 or CV_8UC3 (BGR).
+  virtual std::vector<Detection> detect(const cv::Mat& image) = 0;
+};
+
+// COCO ids of potentially dynamic objects: person, bicycle, car, motorcycle, bus, train, truck,
+// boat, bird, cat, dog, horse, sheep, cow.
+const std::set<int>& dynamicCocoClasses();
+
+// Class-agnostic non-maximum suppression (the mask needs each object once, and YOLO often reports
+// one vehicle as both car and truck): candidates above score_threshold, overlaps above nms_iou
+// removed, best score first.
+std::vector<Detection> suppressOverlaps(const std::vector<Detection>& candidates, double score_threshold,
+                                        double nms_iou);
+
+}  // namespace adugs::tracking
