@@ -7,9 +7,6 @@
 #include "data/kalibr_calibration.h"
 #include "data/playback_controls.h"
 #include "data/rosbag_ground_truth.h"
-#include <rosbag/bag.h>
-
-#include "data/rosbag_topics.h"
 #include "data/trajectory_io.h"
 
 namespace adugs::data {
@@ -23,19 +20,20 @@ struct Preset {
   const char* gt_topic;  // used when the bag has it (a user's --gt-topic must exist)
   const char* gt_parent;
   const char* gt_child;
+  const char* gt_file_beside;  // a ground-truth file shipped beside the bag, used before the topic
   const char* calibration;  // folder under data/config/presets, "" = the sequence's own files
 };
 
 const std::vector<Preset>& presets() {
   static const std::vector<Preset> table = {
-      {"euroc", false, {}, "", "", "", ""},
-      {"euroc-bag", true, {"/cam0/image_raw", "/imu0", "", ""}, "", "", "", "euroc"},
-      {"tum-vi", false, {}, "", "", "", "tum-vi"},
-      {"viode", true, {"/cam0/image_raw", "/imu0", "", ""}, "/odometry", "", "", "viode"},
+      {"euroc", false, {}, "", "", "", "", ""},
+      {"euroc-bag", true, {"/cam0/image_raw", "/imu0", "", ""}, "", "", "", "", "euroc"},
+      {"tum-vi", false, {}, "", "", "", "", "tum-vi"},
+      {"viode", true, {"/cam0/image_raw", "/imu0", "", ""}, "/odometry", "", "", "", "viode"},
       // OpenLORIS: groundtruth.txt beside the bag, else the merged bags' /gt (gt_map -> base_link).
       {"openloris", true, {"/d400/color/image_raw", "", "/d400/accel/sample", "/d400/gyro/sample"}, "/gt",
-       "gt_map", "base_link", "openloris"},
-      {"bag", true, {}, "", "", "", ""},
+       "gt_map", "base_link", "groundtruth.txt", "openloris"},
+      {"bag", true, {}, "", "", "", "", ""},
   };
   return table;
 }
@@ -85,7 +83,7 @@ Calibration loadCalibration(const PlaybackOptions& o, const Preset& preset) {
   return c;
 }
 
-OpenedSequence openFolder(const PlaybackOptions& o, const Preset& preset, const Calibration& calib) {
+OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
   OpenedSequence s;
   EurocReaderOptions ro;
   ro.skip_bad_frames = o.skip_bad_frames;
@@ -104,7 +102,6 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Preset& preset, const 
   std::error_code ec;
   if (fs::is_directory(masks, ec)) s.mask_dir = masks.string();
   s.source = std::move(reader);
-  (void)preset;
   return s;
 }
 
@@ -138,19 +135,19 @@ OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, c
   ro.expected_width = s.camera.width;
   ro.expected_height = s.camera.height;
   ro.image_time_shift_ns = calib.camera->time_shift_ns;
-  s.source = std::make_unique<RosbagSource>(o.path, ro);
+  auto source = std::make_unique<RosbagSource>(o.path, ro);
 
-  const fs::path beside = fs::path(o.path).parent_path() / "groundtruth.txt";
-  std::error_code ec;
+  // Ground truth: --gt, else the user's --gt-topic, else the preset's file beside the bag, else
+  // the preset's topic if this bag has it.
   BagGroundTruthOptions gt_options{o.gt_topic, o.gt_parent_frame, o.gt_child_frame};
-  if (gt_options.topic.empty() && *preset.gt_topic) {  // the preset's topic, if this bag has it
-    const auto bag = openBag(o.path);
-    if (listBagTopics(*bag).count(preset.gt_topic))
-      gt_options = {preset.gt_topic, pick(o.gt_parent_frame, preset.gt_parent), pick(o.gt_child_frame, preset.gt_child)};
-  }
+  if (gt_options.topic.empty() && source->topics().count(preset.gt_topic))
+    gt_options = {preset.gt_topic, pick(o.gt_parent_frame, preset.gt_parent), pick(o.gt_child_frame, preset.gt_child)};
+  const fs::path beside = fs::path(o.path).parent_path() / preset.gt_file_beside;
+  std::error_code ec;
+  s.source = std::move(source);
   if (!o.gt_path.empty()) {
     s.gt_path = o.gt_path;
-  } else if (std::string(preset.name) == "openloris" && o.gt_topic.empty() && fs::is_regular_file(beside, ec)) {
+  } else if (*preset.gt_file_beside && o.gt_topic.empty() && fs::is_regular_file(beside, ec)) {
     s.gt_path = beside.string();
   } else if (!gt_options.topic.empty()) {
     const BagGroundTruth gt = readBagGroundTruth(o.path, gt_options);
@@ -173,7 +170,7 @@ std::vector<std::string> datasetPresetNames() {
 OpenedSequence openSequence(const PlaybackOptions& o, const std::string& out_dir) {
   const Preset& preset = findPreset(o.dataset);
   const Calibration calib = loadCalibration(o, preset);
-  OpenedSequence s = preset.bag ? openBagSequence(o, preset, calib, out_dir) : openFolder(o, preset, calib);
+  OpenedSequence s = preset.bag ? openBagSequence(o, preset, calib, out_dir) : openFolder(o, calib);
   s.calibration_from = calib.from;
   if (o.start_ns < 0 || o.duration_ns < 0)
     throw InputError("--start/--duration", 0, "start", "must not be negative");

@@ -62,15 +62,14 @@ RosbagSource::RosbagSource(const std::string& bag_path, RosbagSourceOptions opti
                      "give one IMU topic, or both an accelerometer and a gyroscope topic");
 
   bag_ = openBag(path_);
-  const std::map<std::string, BagTopic> topics = listBagTopics(*bag_);
-  requireTopic(path_, topics, "image_topic", t.image, {"sensor_msgs/Image", "sensor_msgs/CompressedImage"});
+  topics_ = listBagTopics(*bag_);
+  requireTopic(path_, topics_, "image_topic", t.image, {"sensor_msgs/Image", "sensor_msgs/CompressedImage"});
   std::vector<std::string> names{t.image};
-  for (const auto& [key, name] : {std::pair<const char*, std::string>{"imu_topic", t.imu},
-                                  {"accel_topic", t.accel},
-                                  {"gyro_topic", t.gyro}}) {
-    if (name.empty() || (split && std::string(key) == "imu_topic")) continue;
-    if (!split && std::string(key) != "imu_topic") continue;
-    requireTopic(path_, topics, key, name, {"sensor_msgs/Imu"});
+  const std::vector<std::pair<std::string, std::string>> imu_topics =
+      split ? std::vector<std::pair<std::string, std::string>>{{"accel_topic", t.accel}, {"gyro_topic", t.gyro}}
+            : std::vector<std::pair<std::string, std::string>>{{"imu_topic", t.imu}};
+  for (const auto& [key, name] : imu_topics) {
+    requireTopic(path_, topics_, key, name, {"sensor_msgs/Imu"});
     names.push_back(name);
   }
   try {

@@ -16,9 +16,11 @@
 // a topic of the wrong type, no messages on a topic, an unsupported encoding, an image of another
 // size than the calibration.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 
+#include "data/rosbag_topics.h"
 #include "data/sequence_source.h"
 
 namespace rosbag {
@@ -51,6 +53,8 @@ class RosbagSource : public SequenceSource {
   bool next(Measurement& m) override;
   SourceCounts counts() const override;
   std::string description() const override;
+  // The bag's topics (name -> type), as read when it was opened.
+  const std::map<std::string, BagTopic>& topics() const { return topics_; }
 
  private:
   struct Pending;
@@ -60,6 +64,7 @@ class RosbagSource : public SequenceSource {
   std::string path_;
   RosbagSourceOptions options_;
   std::unique_ptr<rosbag::Bag> bag_;
+  std::map<std::string, BagTopic> topics_;
   std::unique_ptr<rosbag::View> view_;
   struct Cursor;
   std::unique_ptr<Cursor> cursor_;

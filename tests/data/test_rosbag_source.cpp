@@ -194,6 +194,30 @@ TEST_F(RosbagPlayback, PresetWithKalibrFilesOpensTheBagAndWritesItsGroundTruth) 
   EXPECT_NE(err.find("752x480"), std::string::npos) << err;
 }
 
+TEST_F(RosbagPlayback, OpenLorisPresetTakesTheGroundTruthFileBesideTheBag) {
+  test::TempDir seq("adugs_openloris_seq"), out("adugs_openloris_out");
+  fs::create_symlink(bag("openloris.bag"), seq / "office1-1.bag");
+  PlaybackOptions o;
+  o.dataset = "openloris";
+  o.path = (seq / "office1-1.bag").string();
+  o.kalibr_camchain = (*dir_ / "kalibr/camchain-imucam.yaml").string();
+  o.kalibr_imu = (*dir_ / "kalibr/imu.yaml").string();
+  EXPECT_EQ(openSequence(o, out.path().string()).gt_path, "");  // no file, no /gt topic: none
+  const Trajectory gt = readTrajectory((asl() / "mav0/state_groundtruth_estimate0/data.csv").string());
+  writeTumTrajectory((seq / "groundtruth.txt").string(), gt);
+  const OpenedSequence s = openSequence(o, out.path().string());
+  EXPECT_EQ(s.gt_path, (seq / "groundtruth.txt").string());
+  EXPECT_EQ(readTrajectory(s.gt_path).size(), gt.size());
+  // A ground-truth topic the user names wins over the file.
+  o.gt_topic = "/d400/gyro/sample";  // exists, but is no pose type: named in the error
+  try {
+    openSequence(o, out.path().string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gt_topic"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(RosbagPlayback, UnknownTopicListsTheBagsTopics) {
   RosbagSourceOptions o = singleImu();
   o.topics.imu = "/imu_missing";
