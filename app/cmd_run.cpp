@@ -169,20 +169,20 @@ void registerRunCommand(CLI::App& root) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--mask", args->mask,
                   "dynamic mask per frame: none; gt = the simulator's mav0/mask0 masks; detector = "
-                  "YOLOX -> SORT -> box segmentation -> refinement")
+                  "detector -> SORT -> box segmentation -> refinement")
       ->check(CLI::IsMember({"none", "gt", "detector"}))
       ->capture_default_str();
   cmd->add_option("--detector-config", args->detector_config,
                   "--mask detector: darknet .cfg (default: beside the .weights)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--detector-model", args->detector_model,
-                  "--mask detector: YOLOX .onnx or darknet .weights model")
+                  "--mask detector: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights model")
       ->check(CLI::ExistingFile);
   cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
       ->capture_default_str();
-  cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: image encoder ONNX");
-  cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: prompt decoder ONNX");
+  cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: mobilesam_encoder.pt (scripts/export_mobilesam.py)");
+  cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: mobilesam_decoder.pt (scripts/export_mobilesam.py)");
   cmd->add_flag("--skip-bad-frames", p.skip_bad_frames,
                 "skip missing or corrupt images with a warning instead of stopping");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress on stderr");

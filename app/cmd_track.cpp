@@ -144,7 +144,7 @@ void registerTrackCommand(CLI::App& root) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--detections", args->detections, "MOTChallenge det.txt (frame,-1,left,top,w,h,score,...)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--detector-model", args->detector_model, "VIDEO: YOLOX .onnx or darknet .weights")
+  cmd->add_option("--detector-model", args->detector_model, "VIDEO: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights")
       ->check(CLI::ExistingFile);
   cmd->add_option("--detector-config", args->detector_config, "VIDEO: darknet .cfg (default: beside the .weights)")
       ->check(CLI::ExistingFile);

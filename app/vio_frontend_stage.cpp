@@ -46,7 +46,7 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
   if (options_.mask == "detector") {
     if (options_.detector_model.empty())
       throw data::InputError("--detector-model", 0, "detector_model",
-                             "--mask detector needs a detector model (YOLOX .onnx or darknet .weights)");
+                             "--mask detector needs a detector model (ultralytics .torchscript, .onnx or darknet .weights)");
     detector_ = tracking::makeDetector(options_.detector_model, options_.detector_config);
     masker_ = std::make_unique<tracking::DynamicMasker>(
         tracking::DynamicMaskerOptions{},

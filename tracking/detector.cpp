@@ -9,6 +9,20 @@ const std::set<int>& dynamicCocoClasses() {
   return classes;
 }
 
+const std::set<std::string>& dynamicClassNames() {
+  static const std::set<std::string> names{"person", "bicycle", "car",   "motorcycle", "bus",
+                                           "train",  "truck",   "boat",  "bird",       "cat",
+                                           "dog",    "horse",   "sheep", "cow"};
+  return names;
+}
+
+std::set<int> dynamicClassIds(const std::vector<std::string>& names) {
+  std::set<int> ids;
+  for (size_t i = 0; i < names.size(); ++i)
+    if (dynamicClassNames().count(names[i])) ids.insert(static_cast<int>(i));
+  return ids;
+}
+
 std::vector<Detection> suppressOverlaps(const std::vector<Detection>& candidates, double score_threshold,
                                         double nms_iou) {
   std::vector<cv::Rect2d> rects;

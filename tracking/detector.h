@@ -2,6 +2,7 @@
 // An object detector: an image in, boxes of potentially dynamic objects out (after NMS). The
 // backends are chosen from the model file (tracking/detector_factory.h).
 #include <set>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -20,6 +21,19 @@ class Detector {
 // COCO ids of potentially dynamic objects: person, bicycle, car, motorcycle, bus, train, truck,
 // boat, bird, cat, dog, horse, sheep, cow.
 const std::set<int>& dynamicCocoClasses();
+// Their COCO names ("person", "bicycle", "car", ...).
+const std::set<std::string>& dynamicClassNames();
+// The ids among a model's class names that name a dynamic class.
+std::set<int> dynamicClassIds(const std::vector<std::string>& names);
+
+// What the ultralytics backends are told (YOLOX and darknet keep structs with the same fields).
+struct DetectorOptions {
+  double score_threshold = 0.3;
+  double nms_iou = 0.45;
+  // Used when the model file does not name its classes; a model that names them keeps the ids
+  // whose names are in dynamicClassNames().
+  std::set<int> keep_classes = dynamicCocoClasses();
+};
 
 // Class-agnostic non-maximum suppression (the mask needs each object once, and YOLO often reports
 // one vehicle as both car and truck): candidates above score_threshold, overlaps above nms_iou

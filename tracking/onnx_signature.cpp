@@ -1,6 +1,7 @@
 #include "tracking/onnx_signature.h"
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -12,7 +13,8 @@ namespace {
 
 // Field numbers from onnx.proto (ModelProto, GraphProto, NodeProto, ValueInfoProto, TypeProto,
 // TensorShapeProto, TensorProto).
-constexpr uint32_t kModelGraph = 7;
+constexpr uint32_t kModelGraph = 7, kModelMetadataProps = 14;
+constexpr uint32_t kEntryKey = 1, kEntryValue = 2;
 constexpr uint32_t kGraphNode = 1, kGraphInitializer = 5, kGraphInput = 11, kGraphOutput = 12;
 constexpr uint32_t kNodeOpType = 4;
 constexpr uint32_t kTensorName = 8;
@@ -155,14 +157,22 @@ OnnxSignature parseOnnxSignature(const std::string& content, const std::string& 
   try {
     MessageReader model(content.data(), content.size());
     Field f;
+    std::map<std::string, std::string> metadata;
+    bool found = false;
+    OnnxSignature sig;
     while (model.next(&f)) {
-      if (f.number != kModelGraph || f.wire != kBytes) continue;
-      OnnxSignature sig = parseGraph(f);
-      if (sig.inputs.empty() || sig.outputs.empty() || sig.op_types.empty())
-        throw std::runtime_error("the graph has no inputs, outputs or nodes");
-      return sig;
+      if (f.wire != kBytes) continue;
+      if (f.number == kModelMetadataProps)
+        metadata[stringField(f, kEntryKey)] = stringField(f, kEntryValue);
+      if (f.number != kModelGraph) continue;
+      sig = parseGraph(f);
+      found = true;
     }
-    throw std::runtime_error("no graph found");
+    if (!found) throw std::runtime_error("no graph found");
+    if (sig.inputs.empty() || sig.outputs.empty() || sig.op_types.empty())
+      throw std::runtime_error("the graph has no inputs, outputs or nodes");
+    sig.metadata = std::move(metadata);
+    return sig;
   } catch (const std::runtime_error& e) {
     throw data::InputError(name, 0, "", std::string("not a valid ONNX model (") + e.what() + ")");
   }

@@ -1,9 +1,10 @@
 #pragma once
 // The declared interface of an ONNX model: graph input names and shapes (initializers excluded),
-// output names and shapes, and the node op types. Read straight from the protobuf wire format so
-// a model can be checked - and rejected with a message naming what is wrong - before OpenCV's
-// importer runs, and without a protobuf dependency.
+// output names and shapes, the node op types and the metadata entries. Read straight from the
+// protobuf wire format so a model can be told apart (YOLOX or ultralytics layout) and rejected
+// with a message naming what is wrong before OpenCV's importer runs, without a protobuf dependency.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@ struct OnnxSignature {
   std::vector<OnnxTensorInfo> inputs;
   std::vector<OnnxTensorInfo> outputs;
   std::vector<std::string> op_types;  // one per node, in graph order
+  // The model's metadata_props (ultralytics stores "names", "imgsz", "task", "stride" there).
+  std::map<std::string, std::string> metadata;
 };
 
 // Throws data::InputError naming the file when it is missing, unreadable or not an ONNX model.

@@ -3,7 +3,9 @@
 #include <stdexcept>
 
 #include "tracking/grabcut_segmenter.h"
+#ifdef ADUGS_HAVE_TORCH
 #include "tracking/mobilesam_segmenter.h"
+#endif
 
 namespace adugs::tracking {
 
@@ -14,8 +16,15 @@ std::unique_ptr<BoxSegmenter> makeBoxSegmenter(const std::string& kind, const st
   if (kind == "mobilesam") {
     if (encoder.empty() || decoder.empty())
       throw std::invalid_argument(
-          "segmenter 'mobilesam' needs both the encoder and the decoder ONNX file");
+          "segmenter 'mobilesam' needs both TorchScript files: --sam-encoder mobilesam_encoder.pt "
+          "--sam-decoder mobilesam_decoder.pt (written by scripts/export_mobilesam.py)");
+#ifdef ADUGS_HAVE_TORCH
     return std::make_unique<MobileSamSegmenter>(encoder, decoder);
+#else
+    throw std::invalid_argument(
+        "segmenter 'mobilesam' needs libtorch, and this adugs was built without it: install Debian's "
+        "libtorch-dev (scripts/setup.sh does) and rebuild");
+#endif
   }
   throw std::invalid_argument("unknown segmenter '" + kind +
                               "' (expected grabcut, box or mobilesam)");

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "data/input_error.h"
+#include "tracking/letterbox.h"
 
 namespace adugs::tracking {
 namespace {
@@ -79,24 +80,14 @@ YoloxDetector::YoloxDetector(const std::string& onnx_path, const YoloxOptions& o
 }
 
 std::vector<Detection> YoloxDetector::detect(const cv::Mat& image) {
-  cv::Mat bgr = image;
-  if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
   const int s = options_.input_size;
-  const double ratio =
-      std::min(static_cast<double>(s) / bgr.rows, static_cast<double>(s) / bgr.cols);
-  cv::Mat resized;
-  cv::resize(bgr, resized,
-             cv::Size(static_cast<int>(bgr.cols * ratio), static_cast<int>(bgr.rows * ratio)), 0, 0,
-             cv::INTER_LINEAR);
-  cv::Mat padded(s, s, CV_8UC3, cv::Scalar(114, 114, 114));
-  resized.copyTo(padded(cv::Rect(0, 0, resized.cols, resized.rows)));
+  const Letterbox input = letterbox(image, {s, s}, LetterboxPlacement::kTopLeft);
   net_.setInput(
-      cv::dnn::blobFromImage(padded, 1.0, cv::Size(), cv::Scalar(), false, false, CV_32F));
+      cv::dnn::blobFromImage(input.image, 1.0, cv::Size(), cv::Scalar(), false, false, CV_32F));
   cv::Mat out = net_.forward();
   const cv::Mat rows(out.size[1], out.size[2], CV_32F, out.ptr<float>());
-  std::vector<Detection> candidates = decodeYoloxOutput(rows, s, ratio, options_);
-
-  return suppressOverlaps(candidates, options_.score_threshold, options_.nms_iou);
+  return suppressOverlaps(decodeYoloxOutput(rows, s, input.scale, options_), options_.score_threshold,
+                          options_.nms_iou);
 }
 
 }  // namespace adugs::tracking

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -115,6 +116,44 @@ TEST_F(CmdRunVioSim, DetectorMasksRunTheWholeDynamicObjectStage) {
                &log),
       0);
   EXPECT_NE(log.find("detector-model"), std::string::npos) << log;
+}
+
+// The libtorch backends inside `adugs run`: an ultralytics-interface TorchScript detector and
+// MobileSAM-interface TorchScript encoder/decoder (tiny closed-form modules from the test
+// scripts; doc/tracking.md). The detector reports a person at a fixed place scored by the red
+// value of the image centre, which the simulator's grey images make about 0.5; the SAM-like
+// decoder masks the bright pixels inside the box.
+TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
+  TempDir models;
+  const std::string scripts = std::string(ADUGS_SOURCE_DIR) + "/tests/tracking/models/";
+  for (const char* script : {"make_ultralytics_like_models.py", "make_sam_like_torchscript.py"})
+    ASSERT_EQ(std::system(("/usr/bin/python3 " + scripts + script + " " + models.path().string()).c_str()), 0)
+        << script << " failed (Debian python3-torch and python3-onnx: scripts/setup.sh)";
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
+                         (models / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
+                         (models / "encoder.pt").string() + " --sam-decoder " + (models / "decoder.pt").string() +
+                         " --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  const std::string summary = readFile(out / "summary.yaml");
+  EXPECT_NE(summary.find("mask: detector"), std::string::npos) << summary;
+  const size_t at = summary.find("masked_image_fraction: ");
+  ASSERT_NE(at, std::string::npos) << summary;
+  const double fraction = std::stod(summary.substr(at + 23));
+  EXPECT_GT(fraction, 0.001) << summary;
+  EXPECT_LT(fraction, 0.2) << summary;
+  // A decoder with the wrong interface stops the run before any frame, naming the file.
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
+                         (models / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
+                         (models / "encoder.pt").string() + " --sam-decoder " +
+                         (models / "decoder_two_inputs.pt").string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("decoder_two_inputs.pt"), std::string::npos) << log;
 }
 
 // Front-end and estimator run on two threads; the front-end's gyro prediction always uses the

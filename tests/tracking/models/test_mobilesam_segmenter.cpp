@@ -1,7 +1,9 @@
 // MobileSAM weights are not available on the build machines, so these tests drive the real
-// MobileSamSegmenter code path (signature checks, OpenCV dnn import, pre-processing, box prompt,
-// post-processing) with tiny graphs of the same ONNX signature whose output is known in closed
-// form: tests/tracking/make_sam_like_onnx.py documents them.
+// MobileSamSegmenter code path (libtorch loading, interface checks, SAM pre-processing, box
+// prompt, post-processing) with tiny TorchScript modules of the interface of
+// scripts/export_mobilesam.py whose output is known in closed form:
+// tests/tracking/models/make_sam_like_torchscript.py documents them. (The export script itself
+// was run on the real MobileSAM architecture: doc/results.md.)
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -15,7 +17,6 @@
 #include "data/input_error.h"
 #include "tests/test_support.h"
 #include "tracking/mobilesam_segmenter.h"
-#include "tracking/onnx_signature.h"
 #include "tracking/sam_transforms.h"
 #include "tracking/segmenter_factory.h"
 
@@ -24,25 +25,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The models are baked for this image size (their 'masks' output has it).
 constexpr int kHeight = 480, kWidth = 640;
 
-// Writes the SAM-like graphs once per test run; an empty path after a FAIL.
+// Writes the SAM-like modules once per test run; an empty path after a FAIL.
 const fs::path& samLikeModels() {
   static test::TempDir dir("adugs_sam_like");
   static bool generated = false;
   if (!generated) {
-    if (std::system("/usr/bin/python3 -c 'import onnx' > /dev/null 2>&1") != 0) {
-      ADD_FAILURE() << "/usr/bin/python3 with the onnx module (Debian package python3-onnx) is "
-                       "needed to generate the test graphs: run scripts/setup.sh";
-      static const fs::path none;
-      return none;
-    }
     const std::string command = std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
-                                "/tests/tracking/make_sam_like_onnx.py " + dir.path().string() +
-                                " " + std::to_string(kHeight) + " " + std::to_string(kWidth);
+                                "/tests/tracking/models/make_sam_like_torchscript.py " + dir.path().string();
     if (std::system(command.c_str()) != 0) {
-      ADD_FAILURE() << "generating the SAM-like graphs failed: " << command;
+      ADD_FAILURE() << "generating the SAM-like TorchScript modules failed (needs /usr/bin/python3 with "
+                       "Debian's python3-torch: run scripts/setup.sh): "
+                    << command;
       static const fs::path none;
       return none;
     }
@@ -155,21 +150,9 @@ TEST(SamTransforms, LowResMaskIsCroppedToTheResizedImageBeforeUpscaling) {
   EXPECT_LT(logits.at<float>(244, 100), 0);
 }
 
-TEST(OnnxSignature, ReadsTheSamLikeDecoderSignature) {
+TEST(MobileSamSegmenter, SegmentsBoxTimesObjectFromTheLowResolutionLogits) {
   REQUIRE_MODELS();
-  const OnnxSignature sig = readOnnxSignature((models / "decoder.onnx").string());
-  ASSERT_EQ(sig.inputs.size(), 6u);  // initializers are not inputs
-  EXPECT_EQ(sig.inputs[1].name, "point_coords");
-  EXPECT_EQ(describeShape(sig.inputs[1]), "[1, ?, 2]");
-  ASSERT_EQ(sig.outputs.size(), 3u);
-  EXPECT_EQ(sig.outputs[0].name, "masks");
-  EXPECT_EQ(describeShape(sig.outputs[0]), "[1, 1, 480, 640]");
-  EXPECT_EQ(sig.op_types.front(), "Reshape");
-}
-
-TEST(MobileSamSegmenter, SegmentsBoxTimesObjectWithTheDecodersMasks) {
-  REQUIRE_MODELS();
-  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
+  MobileSamSegmenter sam((models / "encoder.pt").string(), (models / "decoder.pt").string());
   const Scene scene = makeScene(1.0);
   const cv::Mat mask = sam.segment(scene.image, scene.boxes);
   ASSERT_EQ(mask.size(), scene.image.size());
@@ -180,16 +163,12 @@ TEST(MobileSamSegmenter, SegmentsBoxTimesObjectWithTheDecodersMasks) {
   EXPECT_EQ(mask.at<uchar>(300, 480), 0);
   EXPECT_EQ(mask.at<uchar>(380, 550), 255);
   EXPECT_EQ(cv::countNonZero(sam.segment(scene.image, {})), 0);
-  // The decoder's own 'masks' (of the image size) are used, not the low-res logits.
-  MobileSamSegmenter inverted_low_res((models / "encoder.onnx").string(),
-                                      (models / "decoder_inverted_low_res.onnx").string());
-  EXPECT_EQ(cv::countNonZero(inverted_low_res.segment(scene.image, scene.boxes) != mask), 0);
 }
 
-TEST(MobileSamSegmenter, UpscalesLowResMasksWhenTheMasksOutputHasAnotherSize) {
+TEST(MobileSamSegmenter, OtherImageSizesMapThroughTheResizedFrame) {
   REQUIRE_MODELS();
-  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
-  const Scene scene = makeScene(0.5);  // 320 x 240: the decoder's 'masks' are 640 x 480
+  MobileSamSegmenter sam((models / "encoder.pt").string(), (models / "decoder.pt").string());
+  const Scene scene = makeScene(0.5);  // 320 x 240: resized x 3.2 into the 1024 frame
   const cv::Mat mask = sam.segment(scene.image, scene.boxes);
   ASSERT_EQ(mask.size(), scene.image.size());
   EXPECT_EQ(mismatchesAwayFromEdges(mask, scene, 2), 0);
@@ -198,7 +177,7 @@ TEST(MobileSamSegmenter, UpscalesLowResMasksWhenTheMasksOutputHasAnotherSize) {
 
 TEST(MobileSamSegmenter, GreyImagesAreAccepted) {
   REQUIRE_MODELS();
-  MobileSamSegmenter sam((models / "encoder.onnx").string(), (models / "decoder.onnx").string());
+  MobileSamSegmenter sam((models / "encoder.pt").string(), (models / "decoder.pt").string());
   // A white square in a grey image: R = 255 inside, 0 outside, so box times square again.
   cv::Mat grey = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
   grey(cv::Rect(200, 100, 160, 200)).setTo(255);
@@ -221,43 +200,40 @@ void expectInputError(const std::function<void()>& f, const std::vector<std::str
 
 TEST(MobileSamSegmenter, BadModelFilesGiveErrorsNamingTheFile) {
   REQUIRE_MODELS();
-  const std::string encoder = (models / "encoder.onnx").string();
-  const std::string decoder = (models / "decoder.onnx").string();
+  const std::string encoder = (models / "encoder.pt").string();
+  const std::string decoder = (models / "decoder.pt").string();
   test::TempDir dir;
-  const std::string missing = (dir / "no_such_encoder.onnx").string();
-  expectInputError([&] { MobileSamSegmenter s(missing, decoder); }, {missing, "cannot open"});
-  const std::string text = (dir / "notes.onnx").string();
-  test::writeText(text, "this is a text file, not an ONNX model\n");
-  expectInputError([&] { MobileSamSegmenter s(text, decoder); }, {text, "not a valid ONNX model"});
-  expectInputError([&] { MobileSamSegmenter s(encoder, text); }, {text, "not a valid ONNX model"});
-  // Empty and truncated models: rejected by the signature reader, never a crash.
-  const std::string empty = (dir / "empty.onnx").string();
+  const std::string missing = (dir / "no_such_encoder.pt").string();
+  expectInputError([&] { MobileSamSegmenter s(missing, decoder); }, {missing, "not found"});
+  const std::string text = (dir / "notes.pt").string();
+  test::writeText(text, "this is a text file, not a TorchScript archive\n");
+  expectInputError([&] { MobileSamSegmenter s(text, decoder); }, {text, "cannot load it as a TorchScript"});
+  expectInputError([&] { MobileSamSegmenter s(encoder, text); }, {text, "cannot load it as a TorchScript"});
+  const std::string empty = (dir / "empty.pt").string();
   test::writeText(empty, "");
-  expectInputError([&] { MobileSamSegmenter s(encoder, empty); }, {empty, "not a valid ONNX"});
+  expectInputError([&] { MobileSamSegmenter s(encoder, empty); }, {empty, "TorchScript"});
+  // Truncated archives: an error naming the file, never a crash.
   std::ifstream whole(decoder, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(whole)), {});
-  const std::string truncated = (dir / "truncated.onnx").string();
+  const std::string truncated = (dir / "truncated.pt").string();
   for (size_t length : {size_t{1}, size_t{40}, bytes.size() / 2, bytes.size() - 3}) {
     std::ofstream(truncated, std::ios::binary).write(bytes.data(), length);
     expectInputError([&] { MobileSamSegmenter s(encoder, truncated); }, {truncated});
   }
-  const std::string wrong = (models / "decoder_wrong_names.onnx").string();
-  expectInputError([&] { MobileSamSegmenter s(encoder, wrong); },
-                   {wrong, "field 'inputs'", "'point_coords' is missing", "coords [1, ?, 2]"});
+  const std::string two_inputs = (models / "decoder_two_inputs.pt").string();
+  expectInputError([&] { MobileSamSegmenter s(encoder, two_inputs); },
+                   {two_inputs, "forward(image_embeddings, point_coords, point_labels)",
+                    "the module has forward(image_embeddings, point_coords)"});
+  const std::string wrong_shape = (models / "decoder_wrong_shape.pt").string();
+  expectInputError([&] { MobileSamSegmenter s(encoder, wrong_shape); },
+                   {wrong_shape, "low_res_masks [1, 1, 256, 256]", "[1, 1, 128, 128]"});
   // Files swapped: each is checked against its role.
-  expectInputError([&] { MobileSamSegmenter s(decoder, encoder); },
-                   {decoder, "not a SAM image encoder", "image_embeddings [1, 256, 64, 64]"});
-  expectInputError([&] { MobileSamSegmenter s(encoder, encoder); },
-                   {encoder, "not a SAM prompt decoder"});
-}
-
-// The real SAM decoder exported at opset 17 contains LayerNormalization, which OpenCV 4.6's
-// importer lacks: the error must say so at load time.
-TEST(MobileSamSegmenter, UnsupportedOpIsNamedAtLoadTime) {
-  REQUIRE_MODELS();
-  const std::string decoder = (models / "decoder_layer_norm.onnx").string();
-  expectInputError([&] { MobileSamSegmenter s((models / "encoder.onnx").string(), decoder); },
-                   {decoder, "op 'LayerNormalization'"});
+  expectInputError([&] { MobileSamSegmenter s(decoder, encoder); }, {decoder, "forward(image)"});
+  // The encoder's output is checked on its first (expensive) run.
+  MobileSamSegmenter small((models / "encoder_wrong_shape.pt").string(), decoder);
+  const Scene scene = makeScene(1.0);
+  expectInputError([&] { small.segment(scene.image, scene.boxes); },
+                   {"encoder_wrong_shape.pt", "[1, 256, 64, 64]", "[1, 256, 32, 32]"});
 }
 
 TEST(SegmenterFactory, BuildsEachKindAndRejectsBadRequests) {
@@ -265,13 +241,11 @@ TEST(SegmenterFactory, BuildsEachKindAndRejectsBadRequests) {
   EXPECT_STREQ(makeBoxSegmenter("grabcut")->name(), "grabcut");
   EXPECT_STREQ(makeBoxSegmenter("box")->name(), "box");
   EXPECT_THROW(makeBoxSegmenter("mobilesam"), std::invalid_argument);
-  EXPECT_THROW(makeBoxSegmenter("mobilesam", "enc.onnx", ""), std::invalid_argument);
+  EXPECT_THROW(makeBoxSegmenter("mobilesam", "enc.pt", ""), std::invalid_argument);
   EXPECT_THROW(makeBoxSegmenter("sam2"), std::invalid_argument);
-  EXPECT_THROW(makeBoxSegmenter("mobilesam", "/nonexistent/enc.onnx", "/nonexistent/dec.onnx"),
-               data::InputError);
+  EXPECT_THROW(makeBoxSegmenter("mobilesam", "/nonexistent/enc.pt", "/nonexistent/dec.pt"), data::InputError);
   REQUIRE_MODELS();
-  const auto sam = makeBoxSegmenter("mobilesam", (models / "encoder.onnx").string(),
-                                    (models / "decoder.onnx").string());
+  const auto sam = makeBoxSegmenter("mobilesam", (models / "encoder.pt").string(), (models / "decoder.pt").string());
   EXPECT_STREQ(sam->name(), "mobilesam");
 }
 

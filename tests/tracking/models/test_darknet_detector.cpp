@@ -81,10 +81,18 @@ TEST(DarknetDetector, BadModelFilesAreNamed) {
     EXPECT_NE(std::string(e.what()).find("width and height"), std::string::npos) << e.what();
   }
   try {
-    makeDetector((tmp / "model.pt").string());
+    makeDetector((tmp / "model.tflite").string());
     FAIL();
   } catch (const data::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown detector model format '.pt'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unknown detector model format '.tflite'"), std::string::npos) << e.what();
+  }
+  // An ultralytics training checkpoint: the user is told how to export it.
+  try {
+    makeDetector((tmp / "yolo11n.pt").string());
+    FAIL();
+  } catch (const data::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("yolo export model=yolo11n.pt format=torchscript"), std::string::npos)
+        << e.what();
   }
 }
 
