@@ -35,6 +35,7 @@ struct RunArgs {
   std::string config_path;
   std::string mask = "none";
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder, detector_config;
+  int detect_every = 1;
   bool quiet = false;
 };
 
@@ -112,6 +113,7 @@ void runSequence(const RunArgs& a) {
   v.segmenter = a.segmenter;
   v.sam_encoder = a.sam_encoder;
   v.sam_decoder = a.sam_decoder;
+  v.detect_every = a.detect_every;
   v.quiet = a.quiet;
   runVio(v);
 }
@@ -178,6 +180,10 @@ void registerRunCommand(CLI::App& root) {
   cmd->add_option("--detector-model", args->detector_model,
                   "--mask detector: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights model")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--detect-every", args->detect_every,
+                  "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
       ->capture_default_str();

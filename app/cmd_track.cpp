@@ -1,7 +1,9 @@
 // `adugs track`: the enhanced SORT tracker, fed either
 //   --detections det.txt                       a MOTChallenge detection file (the public
 //                                              detections trackers are benchmarked with), or
-//   VIDEO --detector-model M [--detector-config C]   a detector run on every frame of a video;
+//   VIDEO --detector-model M [--detector-config C]   a detector run on every frame of a video
+//                                              (--detect-every n: every n-th frame, SORT's
+//                                              predictions in between);
 // writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1), and
 // with --overlay a video of the tracked boxes and their ids.
 //
@@ -36,6 +38,7 @@ struct TrackArgs {
   std::string video, detector_model, detector_config, overlay;
   double min_score = -1e9;
   bool write_coasting = false;
+  int detect_every = 1;
   bool fixed_noise = false;
   tracking::SortOptions sort;
 };
@@ -58,14 +61,16 @@ class DetectionFeed {
       throw data::InputError(a.video, 0, "", "OpenCV cannot open this video");
   }
 
-  bool next(int frame, std::vector<tracking::Detection>* dets, cv::Mat* image) {
+  // detect: whether this frame's detections are wanted (--detect-every skips the others).
+  bool next(int frame, bool detect, std::vector<tracking::Detection>* dets, cv::Mat* image) {
     dets->clear();
     if (detector_) {
       if (!video_.read(*image) || image->empty()) return false;
-      *dets = detector_->detect(*image);
+      if (detect) *dets = detector_->detect(*image);
       return true;
     }
     if (frame > last_frame_) return false;
+    if (!detect) return true;
     if (const auto it = file_.find(frame); it != file_.end())
       for (const data::MotBox& b : it->second)
         if (b.confidence >= a_.min_score)
@@ -108,10 +113,16 @@ void runTrack(const TrackArgs& a) {
   int frame = 1;
   std::vector<tracking::Detection> dets;
   cv::Mat image;
-  for (; feed.next(frame, &dets, &image); ++frame) {
-    const std::vector<tracking::TrackedObject> tracks = tracker.update(dets);
+  int frames_since_detection = a.detect_every;
+  for (bool detect = true; feed.next(frame, detect, &dets, &image); ++frame) {
+    // Frames the detector skips get the tracks predicted to them; a track counts as found there
+    // when it was found at the last detection.
+    const std::vector<tracking::TrackedObject> tracks =
+        detect ? tracker.update(dets, frames_since_detection) : tracker.predict(frames_since_detection);
+    frames_since_detection = detect ? 1 : frames_since_detection + 1;
+    detect = frames_since_detection >= a.detect_every;
     for (const tracking::TrackedObject& t : tracks) {
-      if (!t.detected && !a.write_coasting) continue;
+      if (t.frames_missed > 0 && !a.write_coasting) continue;
       // MOTChallenge: 1-based top-left pixel coordinates.
       out << frame << "," << t.id << "," << t.box.left() + 1 << "," << t.box.top() + 1 << "," << t.box.w << ","
           << t.box.h << ",1,-1,-1,-1\n";
@@ -159,6 +170,10 @@ void registerTrackCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--iou-min", args->sort.iou_min, "smallest IoU of an association")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--detect-every", args->detect_every,
+                  "use the detections of every n-th frame only; SORT's predictions fill the others")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("--write-coasting", args->write_coasting,
                 "also write predicted boxes of tracks without a detection in the frame");

@@ -11,9 +11,10 @@ struct VioRunArgs {
   data::PlaybackOptions playback;  // what to play back (dataset preset, path, topics, calibration)
   std::string out_dir, config_path;
   std::string mask = "none";  // none | gt (the simulator's mask0/ folder) | detector
-  // --mask detector: YOLOX ONNX model, box segmenter (grabcut | box | mobilesam + its two ONNX).
+  // --mask detector: detector model, box segmenter (grabcut | box | mobilesam + its two files).
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string detector_config;  // darknet .cfg ("" = beside the .weights)
+  int detect_every = 1;
   bool quiet = false;
 };
 

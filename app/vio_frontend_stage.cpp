@@ -48,8 +48,10 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
       throw data::InputError("--detector-model", 0, "detector_model",
                              "--mask detector needs a detector model (ultralytics .torchscript, .onnx or darknet .weights)");
     detector_ = tracking::makeDetector(options_.detector_model, options_.detector_config);
+    tracking::DynamicMaskerOptions masker_options;
+    masker_options.detect_every = options_.detect_every;
     masker_ = std::make_unique<tracking::DynamicMasker>(
-        tracking::DynamicMaskerOptions{},
+        masker_options,
         tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
   }
 }
@@ -60,8 +62,9 @@ cv::Mat FrontEndStage::makeMask(const data::Frame& frame, TrackedFrame* out) {
   if (options_.mask == "gt") return loadGroundTruthMask(options_.mask_dir, frame);
   if (!masker_) return {};
   const auto t0 = std::chrono::steady_clock::now();
-  const tracking::DynamicMaskResult r =
-      masker_->process(frame.image, detector_->detect(frame.image));
+  const tracking::DynamicMaskResult r = masker_->detectionDue()
+                                            ? masker_->process(frame.image, detector_->detect(frame.image))
+                                            : masker_->carry(frame.image);
   out->mask_ms = msSince(t0);
   out->masked_fraction = r.masked_fraction;
   return r.mask;

@@ -12,22 +12,40 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
                              std::unique_ptr<BoxSegmenter> segmenter)
-    : options_(options), segmenter_(std::move(segmenter)), sort_(options.sort) {
+    : options_(options),
+      segmenter_(std::move(segmenter)),
+      sort_(options.sort),
+      frames_since_detection_(options.detect_every) {
   if (!segmenter_) throw std::invalid_argument("DynamicMasker: no segmenter");
+  if (options_.detect_every < 1) throw std::invalid_argument("DynamicMasker: detect_every must be >= 1");
 }
 
 DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
                                          const std::vector<Detection>& detections) {
   DynamicMaskResult r;
   auto t0 = std::chrono::steady_clock::now();
-  r.objects = sort_.update(detections);
+  // dt: the frames since the last detection, so the filter's velocity stays per frame.
+  r.objects = sort_.update(detections, frames_since_detection_);
+  frames_since_detection_ = 1;
   r.sort_ms = msSince(t0);
+  return maskBoxes(image, std::move(r));
+}
 
+DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
+  DynamicMaskResult r;
+  auto t0 = std::chrono::steady_clock::now();
+  r.objects = sort_.predict(frames_since_detection_);
+  ++frames_since_detection_;
+  r.sort_ms = msSince(t0);
+  return maskBoxes(image, std::move(r));
+}
+
+DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResult r) {
+  auto t0 = std::chrono::steady_clock::now();
   std::vector<Box> boxes;
   for (const TrackedObject& o : r.objects)
     if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px)
       boxes.push_back(o.box);
-  t0 = std::chrono::steady_clock::now();
   const cv::Mat raw = segmenter_->segment(image, boxes);
   r.segment_ms = msSince(t0);
 

@@ -18,6 +18,10 @@ struct DynamicMaskerOptions {
   SortOptions sort;
   MaskRefinementOptions refinement;
   double min_box_side_px = 4;  // smaller tracked boxes are ignored
+  // The detector runs on every detect_every-th frame (1 = all); in between, SORT's predictions
+  // carry the boxes (SortTracker::predict), which saves the detector's time at a cost in
+  // accuracy measured in doc/results.md.
+  int detect_every = 1;
 };
 
 struct DynamicMaskResult {
@@ -30,14 +34,21 @@ struct DynamicMaskResult {
 class DynamicMasker {
  public:
   DynamicMasker(const DynamicMaskerOptions& options, std::unique_ptr<BoxSegmenter> segmenter);
+  // Whether the next frame is one the detector should run on.
+  bool detectionDue() const { return frames_since_detection_ >= options_.detect_every; }
   // image: CV_8UC1 or CV_8UC3; detections of this frame in its pixels.
   DynamicMaskResult process(const cv::Mat& image, const std::vector<Detection>& detections);
+  // A frame without detections (not detectionDue()): the tracked boxes predicted to it.
+  DynamicMaskResult carry(const cv::Mat& image);
   const BoxSegmenter& segmenter() const { return *segmenter_; }
 
  private:
+  DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r);
+
   DynamicMaskerOptions options_;
   std::unique_ptr<BoxSegmenter> segmenter_;
   SortTracker sort_;
+  int frames_since_detection_;  // starts at detect_every: the first frame is detected
 };
 
 }  // namespace adugs::tracking

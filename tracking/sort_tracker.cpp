@@ -81,7 +81,24 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
 
   std::vector<TrackedObject> out;
   for (const Track& t : tracks_)
-    if (t.object.hits >= options_.min_hits || frames_ <= options_.min_hits) out.push_back(t.object);
+    if (reported(t)) out.push_back(t.object);
+  return out;
+}
+
+bool SortTracker::reported(const Track& t) const {
+  return t.object.hits >= options_.min_hits || frames_ <= options_.min_hits;
+}
+
+std::vector<TrackedObject> SortTracker::predict(double dt) const {
+  std::vector<TrackedObject> out;
+  for (const Track& t : tracks_) {
+    if (!reported(t)) continue;
+    AdaptiveBoxFilter filter = t.filter;
+    TrackedObject o = t.object;
+    o.box = filter.predict(dt);
+    o.detected = false;
+    out.push_back(o);
+  }
   return out;
 }
 

@@ -49,6 +49,10 @@ class SortTracker {
   // dt: frames since the previous call (1 for consecutive frames).
   std::vector<TrackedObject> update(const std::vector<Detection>& detections, double dt = 1.0);
 
+  // The tracks the last update() reported, their boxes predicted dt frames past it, the state
+  // unchanged: what carries the boxes across frames the detector skips (marked not detected).
+  std::vector<TrackedObject> predict(double dt) const;
+
   int liveTracks() const { return static_cast<int>(tracks_.size()); }
 
  private:
@@ -60,6 +64,7 @@ class SortTracker {
     double dt_since_detection = 0;
   };
   void fuse(Track& track, const Box& detection);
+  bool reported(const Track& track) const;
   SortOptions options_;
   std::vector<Track> tracks_;
   int64_t next_id_ = 1;

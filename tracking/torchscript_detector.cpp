@@ -36,7 +36,7 @@ TorchScriptDetector::TorchScriptDetector(const std::string& path, const Detector
     info_ = parseUltralyticsMetadata(entries, path + ":config.txt");
   }
   if (info_.input_size.empty()) info_.input_size = {kDefaultInputSide, kDefaultInputSide};
-  if (!info_.names.empty()) options_.keep_classes = dynamicClassIds(info_.names);
+  options_.keep_classes = keptClasses(info_, options_.keep_classes, path);
   // One run on a grey frame checks the output now rather than on the first frame.
   const cv::Mat grey(info_.input_size, CV_8UC3, cv::Scalar(114, 114, 114));
   num_classes_ = ultralyticsClassCount(forward(grey).rows, info_, path);

@@ -23,7 +23,7 @@ UltralyticsOnnxDetector::UltralyticsOnnxDetector(const std::string& onnx_path, c
     throw data::InputError(onnx_path, 0, "imgsz",
                            "neither the metadata nor the input shape " + describeShape(input) +
                                " gives the network's input size (export with a fixed imgsz)");
-  if (!info_.names.empty()) options_.keep_classes = dynamicClassIds(info_.names);
+  options_.keep_classes = keptClasses(info_, options_.keep_classes, onnx_path);
   try {
     net_ = cv::dnn::readNetFromONNX(onnx_path);
   } catch (const cv::Exception& e) {

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <iostream>
 
 #include "data/input_error.h"
 
@@ -59,6 +60,16 @@ UltralyticsModelInfo parseUltralyticsMetadata(const std::map<std::string, std::s
   }
   if (const YAML::Node task = parseEntry(entries, "task", path); !task.IsNull()) info.task = task.as<std::string>("");
   return info;
+}
+
+std::set<int> keptClasses(const UltralyticsModelInfo& info, const std::set<int>& fallback, const std::string& path) {
+  if (info.names.empty()) return fallback;
+  std::set<int> kept = dynamicClassIds(info.names);
+  if (!kept.empty()) return kept;
+  std::cerr << "warning: " << path << ": none of the model's " << info.names.size()
+            << " class names is a dynamic class (person, car, bus, ...): every detection is masked\n";
+  for (int i = 0; i < static_cast<int>(info.names.size()); ++i) kept.insert(i);
+  return kept;
 }
 
 int ultralyticsClassCount(int rows, const UltralyticsModelInfo& info, const std::string& path) {

@@ -8,6 +8,7 @@
 // TorchScript file's extra file config.txt (JSON), with keys "names" ({0: 'person', ...}),
 // "imgsz" ([640, 640] as height, width) and "task" ("detect", "segment", ...).
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,11 @@ struct UltralyticsModelInfo {
 // writes them). Throws data::InputError naming `path` and the key when a present entry is malformed.
 UltralyticsModelInfo parseUltralyticsMetadata(const std::map<std::string, std::string>& entries,
                                               const std::string& path);
+
+// The classes to keep for a model with these names: those named as dynamic classes; all of them
+// (with a warning on stderr naming `path`) when none is, since for odometry masking too much is
+// the safe error; `fallback` when the model does not name its classes.
+std::set<int> keptClasses(const UltralyticsModelInfo& info, const std::set<int>& fallback, const std::string& path);
 
 // The class count of an output with `rows` rows: the names' count when known (checked against the
 // rows: 4 + C, or 4 + C + 32 for a segmentation model), else rows - 4. Throws data::InputError

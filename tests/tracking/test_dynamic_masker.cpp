@@ -62,6 +62,50 @@ TEST(DynamicMasker, CoastingTracksKeepTheMaskOnObjectsWhoseDetectionsDrop) {
   EXPECT_GT(recall_masker, recall_plain + 0.1);
 }
 
+// --detect-every 3 on the same street (every visible object detected when the detector runs): the
+// detector is asked for every 3rd frame only and the predicted boxes mask the objects in between.
+// Measured 2026-11-25: 0.990 of the dynamic pixels covered detecting every frame, 0.908 every 3rd.
+TEST(DynamicMasker, DetectingEveryThirdFrameCarriesTheMaskBetween) {
+  test::TempDir tmp("adugs_masker_every");
+  const auto street = test_support::makeSimulatedStreet(tmp.path(), 4.0);
+  const int frames = static_cast<int>(street.image_names.size());
+  double recall[2] = {0, 0}, truth = 0;
+  for (int every : {1, 3}) {
+    DynamicMaskerOptions options;
+    options.detect_every = every;
+    DynamicMasker masker(options, std::make_unique<FilledBoxSegmenter>());
+    int detector_calls = 0;
+    for (int f = 1; f <= frames; ++f) {
+      const cv::Mat image = cv::imread(street.imagePath(f), cv::IMREAD_GRAYSCALE);
+      DynamicMaskResult r;
+      if (masker.detectionDue()) {
+        EXPECT_EQ((f - 1) % every, 0) << "frame " << f;
+        ++detector_calls;
+        std::vector<Detection> dets;
+        for (const Box& b : street.visibleBoxes(f, 0.4)) dets.push_back({b, 0});
+        r = masker.process(image, dets);
+      } else {
+        r = masker.carry(image);
+      }
+      if (f <= 10) continue;
+      cv::Mat scored = cv::Mat::zeros(image.size(), CV_8UC1);
+      for (const Box& b : street.visibleBoxes(f, 0.4)) scored(clippedRect(b, image.cols, image.rows)).setTo(255);
+      const cv::Mat target = cv::imread(street.maskPath(f), cv::IMREAD_GRAYSCALE) & scored;
+      recall[every == 3] += cv::countNonZero(target & r.mask);
+      if (every == 1) truth += cv::countNonZero(target);
+    }
+    EXPECT_EQ(detector_calls, (frames + every - 1) / every);
+  }
+  ASSERT_GT(truth, 10000);
+  std::cout << "dynamic pixels covered: detector every frame " << recall[0] / truth << ", every 3rd frame "
+            << recall[1] / truth << "\n";
+  EXPECT_GT(recall[0] / truth, 0.97);
+  EXPECT_GT(recall[1] / truth, 0.88);
+  DynamicMaskerOptions bad;
+  bad.detect_every = 0;
+  EXPECT_THROW(DynamicMasker(bad, std::make_unique<FilledBoxSegmenter>()), std::invalid_argument);
+}
+
 TEST(DynamicMasker, EmptyFramesGiveAnEmptyMaskAndNullSegmenterIsRefused) {
   DynamicMasker masker(DynamicMaskerOptions{}, std::make_unique<GrabCutSegmenter>());
   const DynamicMaskResult r = masker.process(cv::Mat(48, 64, CV_8UC1, cv::Scalar(90)), {});

@@ -117,5 +117,39 @@ TEST(SortTracker, ObservationCentricRecoveryForgetsTheCoastingVelocity) {
   EXPECT_LT(with, 3.0);
 }
 
+// Between detector runs (--detect-every) the boxes are SORT's predictions: a box moving 6 px per
+// frame, detected every 3rd frame with dt = 3, is predicted 1 and 2 frames on where it is, and
+// predicting does not change the tracker (the next detection matches the same track).
+TEST(SortTracker, PredictCarriesTheBoxesBetweenDetectionsWithoutChangingTheState) {
+  SortOptions o;
+  o.min_hits = 1;
+  SortTracker tracker(o);
+  std::vector<TrackedObject> out;
+  for (int f = 0; f <= 30; f += 3) out = tracker.update({{Box{100.0 + 6 * f, 200, 40, 80}, 0, 1.0}}, f == 0 ? 1 : 3);
+  ASSERT_EQ(out.size(), 1u);
+  for (int ahead : {1, 2}) {
+    const std::vector<TrackedObject> p = tracker.predict(ahead);
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_EQ(p[0].id, out[0].id);
+    EXPECT_FALSE(p[0].detected);
+    EXPECT_EQ(p[0].frames_missed, 0);  // found at the last detection
+    EXPECT_NEAR(p[0].box.cx, 100.0 + 6 * (30 + ahead), 1.0) << ahead << " frames on";
+    EXPECT_NEAR(p[0].box.w, 40, 0.5);
+  }
+  const std::vector<TrackedObject> next = tracker.update({{Box{100.0 + 6 * 33, 200, 40, 80}, 0, 1.0}}, 3);
+  ASSERT_EQ(next.size(), 1u);
+  EXPECT_EQ(next[0].id, out[0].id);
+  EXPECT_TRUE(next[0].detected);
+  // Tracks not yet reported are not predicted either.
+  SortOptions strict;
+  strict.min_hits = 3;
+  SortTracker young(strict);
+  young.update({{Box{10, 10, 5, 5}, 0, 1.0}});
+  young.update({});
+  young.update({});
+  young.update({{Box{300, 300, 20, 20}, 0, 1.0}});
+  EXPECT_TRUE(young.predict(1).empty());
+}
+
 }  // namespace
 }  // namespace adugs::tracking

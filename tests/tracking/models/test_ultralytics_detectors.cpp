@@ -139,6 +139,11 @@ TEST(UltralyticsOutput, HandWorkedColumns) {
   DetectorOptions options;
   options.keep_classes = dynamicClassIds({"person", "bicycle", "chair"});
   EXPECT_EQ(options.keep_classes, (std::set<int>{0, 1}));
+  // Names without a dynamic class (a custom model): every class is kept rather than none.
+  UltralyticsModelInfo custom;
+  custom.names = {"forklift", "pallet"};
+  EXPECT_EQ(keptClasses(custom, {0}, "m"), (std::set<int>{0, 1}));
+  EXPECT_EQ(keptClasses(UltralyticsModelInfo{}, {7}, "m"), (std::set<int>{7}));
   const std::vector<Detection> d = decodeUltralyticsOutput(out, 3, lb, options);
   ASSERT_EQ(d.size(), 1u);
   expectBox(d[0].box, 100, 100, 40, 80);
