@@ -54,6 +54,12 @@ void registerSimCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--level", a->level, "moving objects: none, low, mid, high or all")
       ->capture_default_str();
+  cmd->add_option("--people", o.people,
+                  "how people look: boxes (textured boxes) or walkers (cut-outs of real walking people that "
+                  "detectors recognise)")
+      ->check(CLI::IsMember({"boxes", "walkers"}))
+      ->capture_default_str();
+  cmd->add_option("--walkers", o.walkers_dir, "--people walkers: sprite folder (default: the one the build cut)");
   cmd->add_option("--seed", o.seed, "random seed (world, path, objects, noise)")->capture_default_str();
   cmd->add_option("--duration", o.duration_s,
                   "seconds (hybrid: from the trajectory start; <= 0 = whole trajectory)")

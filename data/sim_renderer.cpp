@@ -215,6 +215,7 @@ void SimRenderer::rasterize(const SimScene& scene, const Eigen::Isometry3d& T_W_
                        0.5 * std::log2(std::max(std::abs(c), 1e-9)));
     q.gain = sq.gain;
     q.texture = sq.texture;
+    q.sprite = sq.sprite >= 0 ? &scene.sprites.at(static_cast<size_t>(sq.sprite)) : nullptr;
     q.object = object;
     quads_.push_back(q);
     return true;
@@ -243,6 +244,13 @@ void SimRenderer::rasterize(const SimScene& scene, const Eigen::Isometry3d& T_W_
       st->y0 = camera_.height;
     }
     if (!obj.poseAt(t_ns, &T_W_O)) continue;
+    if (obj.walk_cycle >= 0) {
+      SimQuad billboard;
+      if (walkerBillboard(scene, obj, T_W_O, T_W_C.translation(), t_ns, &billboard) &&
+          addQuad(billboard, T_C_W, obj.id))
+        rasterizeQuad(quads_.back(), int(quads_.size()) - 1, st);
+      continue;
+    }
     const Eigen::Isometry3d T_C_O = T_C_W * T_W_O;
     for (const SimQuad& sq : obj.quads)
       if (addQuad(sq, T_C_O, obj.id)) rasterizeQuad(quads_.back(), int(quads_.size()) - 1, st);
@@ -301,6 +309,7 @@ void SimRenderer::rasterizeQuad(const CamQuad& q, int index, ObjectStats* stats)
       if (a < 0.0f || a >= 1.0f) continue;
       const float b = t * (q.vx * rx + q.vy * ry + q.vz) - q.b0;
       if (b < 0.0f || b >= 1.0f) continue;
+      if (q.sprite && !q.sprite->opaque(a, b)) continue;  // a cut-out's transparent texel
       if (stats && stamp_[size_t(i)] != stats->stamp) {
         stamp_[size_t(i)] = stats->stamp;
         ++stats->total;
@@ -337,6 +346,10 @@ void SimRenderer::shade(const SimScene& scene, const SimRenderOptions& options, 
     // axes) with distance = t |ray| and cos = |c| / distance, which splits into a per-quad term,
     // a per-pixel term and 1.5 log2 t.
     const float lod = q.lod_bias + lod_pixel_[size_t(i)] + 1.5f * fastLog2(t);
+    if (q.sprite) {
+      out[i] += q.gain * q.sprite->sample(a * q.su, b * q.sv, lod);
+      continue;
+    }
     const SimTexture& tex = scene.textures[size_t(q.texture)];
     out[i] += q.gain * tex.sample(a * q.su, b * q.sv, lod);
   }

@@ -80,6 +80,7 @@ class SimRenderer {
     float lod_bias;                   // log2(texels per metre) - 0.5 log2|c|: see shade()
     float gain;
     int texture;
+    const SimSprite* sprite;          // non-null: alpha-tested cut-out instead of the texture
     int object;                       // object id, 0 = static
   };
   struct ObjectStats {

@@ -421,8 +421,8 @@ Eigen::Vector3d objectSize(SimObjectClass cls, SimRng& rng) {
 
 class ObjectFactory {
  public:
-  ObjectFactory(SimScene& scene, SimRng& rng, const SimTrajectory& path)
-      : scene_(scene), rng_(rng), path_(path) {
+  ObjectFactory(SimScene& scene, SimRng& rng, const SimTrajectory& path, bool walkers)
+      : scene_(scene), rng_(rng), path_(path), walkers_(walkers) {
     for (int i = 0; i < 6; ++i)
       person_tex_.push_back(scene_.addTexture(makeTexture(SimTextureKind::kPerson, kObjectTextureSize, rng_)));
     for (int i = 0; i < 6; ++i)
@@ -438,8 +438,16 @@ class ObjectFactory {
     o.size = objectSize(cls, rng_);
     const auto& pool = cls == SimObjectClass::kPerson ? person_tex_ : vehicle_tex_;
     const int tex = pool[static_cast<size_t>(rng_.uniformInt(0, static_cast<int>(pool.size()) - 1))];
-    o.quads = makeBoxQuads(Eigen::Vector3d::Zero(), o.size, tex, 0, true, kObjectTextureSize);
     o.motion.origin_ns = path_.startNs();
+    if (walkers_ && cls == SimObjectClass::kPerson) {
+      // A cut-out of a real walker, as tall as the box would have been, as wide as its sprite.
+      o.walk_cycle = rng_.uniformInt(0, static_cast<int>(scene_.walk_cycles.size()) - 1);
+      o.walk_phase = rng_.uniform(0, 100);
+      const SimSprite& first = scene_.sprites[static_cast<size_t>(scene_.walk_cycles[o.walk_cycle].frames[0])];
+      o.size.y() = o.size.z() * first.width() / first.height();
+      return o;
+    }
+    o.quads = makeBoxQuads(Eigen::Vector3d::Zero(), o.size, tex, 0, true, kObjectTextureSize);
     return o;
   }
 
@@ -465,6 +473,7 @@ class ObjectFactory {
   SimScene& scene_;
   SimRng& rng_;
   const SimTrajectory& path_;
+  bool walkers_;
   std::vector<int> person_tex_, vehicle_tex_;
   std::vector<std::pair<int64_t, Eigen::Vector3d>> samples_;
 };
@@ -548,11 +557,17 @@ void addClosePasses(ObjectFactory& f, SimObjectClass cls, double period_s, doubl
 }  // namespace
 
 void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
-                       const SimTrajectory& body_path, const Eigen::Isometry3d& T_B_C) {
+                       const SimTrajectory& body_path, const Eigen::Isometry3d& T_B_C,
+                       const SimWalkerSet* walkers) {
   if (level == SimLevel::kNone) return;
   SimRng rng = SimRng::derive(seed, kStreamObjects * 16 + static_cast<uint64_t>(level));
   const LevelSpec spec = levelSpec(scene.name, level);
-  ObjectFactory f(scene, rng, body_path);
+  const bool use_walkers = walkers && !walkers->cycles.empty();
+  if (use_walkers) {
+    scene.sprites = walkers->sprites;
+    scene.walk_cycles = walkers->cycles;
+  }
+  ObjectFactory f(scene, rng, body_path, use_walkers);
   std::vector<Eigen::Vector3d> path;
   for (const auto& s : f.samples()) path.push_back(s.second);
   const Eigen::AlignedBox3d b = pathBounds(path);
@@ -593,6 +608,38 @@ void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
                        1.1 * v, 3.5, z, body_path, T_B_C);
     }
   }
+}
+
+bool walkerBillboard(const SimScene& scene, const SimObject& object, const Eigen::Isometry3d& T_W_O,
+                     const Eigen::Vector3d& camera_W, int64_t t_ns, SimQuad* quad) {
+  const SimWalkCycle& cycle = scene.walk_cycles.at(static_cast<size_t>(object.walk_cycle));
+  const double height = object.size.z();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d center = T_W_O.translation() + up * (height / 2);
+  Eigen::Vector3d to_camera = camera_W - center;
+  to_camera.z() = 0;
+  if (to_camera.norm() < 1e-3) return false;
+  // The video shows about 10 frames per second of people walking at about 1.3 m/s; play the
+  // frames forward then backward so the cycle has no jump.
+  const int n = static_cast<int>(cycle.frames.size());
+  const double speed = object.motion.kind == SimObjectMotion::Kind::kPasses ? 1.3 : std::abs(object.motion.speed);
+  const double position = nsToSec(t_ns - object.motion.origin_ns) * 10.0 * speed / 1.3 + object.walk_phase;
+  const int period = std::max(1, 2 * n - 2);
+  int k = static_cast<int>(std::fmod(position, period));
+  if (k >= n) k = period - k;
+  const SimSprite& sprite = scene.sprites.at(static_cast<size_t>(cycle.frames[static_cast<size_t>(k)]));
+  const double width = height * sprite.width() / sprite.height();
+  *quad = makeFacingQuad(center, to_camera, up, width, height, 0, sprite.height() / height);
+  quad->sprite = cycle.frames[static_cast<size_t>(k)];
+  quad->gain = 1.0f;
+  quad->one_sided = false;
+  // Mirror when the person walks across the view the other way than in the video.
+  const double across = T_W_O.linear().col(0).dot(quad->edge_u.normalized());
+  if ((cycle.direction == "right" && across < 0) || (cycle.direction == "left" && across > 0)) {
+    quad->origin += quad->edge_u;
+    quad->edge_u = -quad->edge_u;
+  }
+  return true;
 }
 
 }  // namespace adugs::data

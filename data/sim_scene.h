@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "data/sim_sprite.h"
 #include "data/sim_texture.h"
 #include "data/sim_trajectory.h"
 
@@ -40,6 +41,9 @@ struct SimQuad {
   double texels_u = 128, texels_v = 128;
   float gain = 1.0f;  // flat lighting factor
   bool one_sided = true;
+  // >= 0: textured by SimScene::sprites[sprite] instead (not tiled; alpha-tested, so the quad
+  // covers only the sprite's opaque texels).
+  int sprite = -1;
 };
 
 // A quad facing the viewer: `normal` points toward the viewer, `up` is the texture's up direction.
@@ -81,6 +85,10 @@ struct SimObject {
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  // length (x), width (y), height (z)
   std::vector<SimQuad> quads;                      // in frame O
   SimObjectMotion motion;
+  // >= 0: a walker drawn from SimScene::walk_cycles[walk_cycle] as a billboard of height size.z()
+  // (walkerBillboard) instead of `quads`; walk_phase offsets its cycle.
+  int walk_cycle = -1;
+  double walk_phase = 0.0;
 
   // False when the object is absent at t (between passes).
   bool poseAt(int64_t t_ns, Eigen::Isometry3d* T_W_O) const;
@@ -91,6 +99,8 @@ struct SimScene {
   std::vector<SimTexture> textures;
   std::vector<SimQuad> static_quads;  // world frame
   std::vector<SimObject> objects;
+  std::vector<SimSprite> sprites;          // walker cut-outs (data/sim_sprite.h)
+  std::vector<SimWalkCycle> walk_cycles;   // frames index `sprites`
   float background = 200.0f;  // grey level where no surface is hit (sky)
   double floor_z = 0.0;
 
@@ -130,7 +140,18 @@ SimScene buildStaticScene(const std::string& scene, uint64_t seed, const SimTraj
 // Adds the moving objects of `level`: counts, sizes and speeds grow with the level; the high level
 // also sends objects right past the camera so that they fill most of the image. Objects keep a
 // clearance from the camera path so they never pass through the camera.
+// With `walkers`, the people are cut-outs of real walking people (billboards) instead of textured
+// boxes; the boxes mode keeps its exact output.
 void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
-                       const SimTrajectory& body_path, const Eigen::Isometry3d& T_B_C);
+                       const SimTrajectory& body_path, const Eigen::Isometry3d& T_B_C,
+                       const SimWalkerSet* walkers = nullptr);
+
+// The quad (world frame) that draws walker `object` at time t: upright at its bottom centre,
+// turned about the vertical toward the camera at camera_W, the cycle frame of time t (played
+// forward and back at 10 frames per second, the video's rate, scaled by the walking speed),
+// mirrored when the person walks the other way across the view than in the video. False when the
+// camera is right above it.
+bool walkerBillboard(const SimScene& scene, const SimObject& object, const Eigen::Isometry3d& T_W_O,
+                     const Eigen::Vector3d& camera_W, int64_t t_ns, SimQuad* quad);
 
 }  // namespace adugs::data

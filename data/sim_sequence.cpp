@@ -147,6 +147,8 @@ void checkOptions(const SimSequenceOptions& o) {
   const int given = !o.trajectory_path.empty() + !o.imu_path.empty() + !o.calib_path.empty();
   if (given != 0 && given != 3)
     throw InputError("command line", 0, "--trajectory/--imu/--calib", "hybrid mode needs all three files");
+  if (o.people != "boxes" && o.people != "walkers")
+    throw InputError("command line", 0, "--people", "unknown '" + o.people + "' (use boxes or walkers)");
   if (isHybrid(o) && o.motion != "glide")
     throw InputError("command line", 0, "--motion", "hybrid mode follows the given trajectory; leave --motion out");
 }
@@ -161,7 +163,16 @@ void generateSimSequence(const SimSequenceOptions& o, const std::string& out_roo
   checkOptions(o);
   const Prepared p = isHybrid(o) ? prepareHybrid(o) : prepareSynthetic(o);
   SimScene scene = buildStaticScene(o.scene, o.seed, *p.trajectory);
-  addDynamicObjects(scene, o.level, o.seed, *p.trajectory, p.T_B_C);
+  SimWalkerSet walkers;
+  if (o.people == "walkers") {
+    const std::string dir = o.walkers_dir.empty() ? defaultWalkersDir() : o.walkers_dir;
+    if (dir.empty())
+      throw InputError("command line", 0, "--people",
+                       "walkers need the sprites cut from vtest.avi at build time: install Debian's opencv-doc and "
+                       "rebuild, or give --walkers DIR");
+    walkers = loadWalkerSet(dir);
+  }
+  addDynamicObjects(scene, o.level, o.seed, *p.trajectory, p.T_B_C, o.people == "walkers" ? &walkers : nullptr);
 
   SimSequenceWriter writer(out_root, calibrationFromSimCamera(p.camera, p.T_B_C, p.camera_rate_hz),
                            p.imu_noise);

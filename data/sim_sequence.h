@@ -41,6 +41,10 @@ struct SimSequenceOptions {
   // next to imu_path). Synthetic: the noise densities and random walks to simulate with
   // (default: those in `imu`, EuRoC's ADIS16448); the rate stays imu.rate_hz.
   std::string imu_calib_path;
+  // "boxes": people are textured boxes; "walkers": cut-outs of real walking people (detectors
+  // recognise them), from walkers_dir ("" = defaultWalkersDir(), cut from vtest.avi at build time).
+  std::string people = "boxes";
+  std::string walkers_dir;
   bool progress = true;        // progress lines on stderr
 };
 

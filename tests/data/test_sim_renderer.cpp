@@ -277,6 +277,89 @@ TEST(SimRenderer, OcclusionGivesPartialVisibility) {
   EXPECT_LT(far.visible_pixels, far.total_pixels);
 }
 
+// A walker: an asymmetric cut-out (a top band and a left column opaque, grey 60; the rest
+// transparent with grey 250 behind it, as a video's background would be) drawn as a billboard.
+// The mask is exactly the opaque part, none of the background leaks into the object's pixels,
+// the sprite is mirrored when the walker crosses the view the other way, and the cycle plays.
+SimScene walkerScene(double walk_direction_y, const cv::Mat& sprite0, const cv::Mat& sprite1) {
+  SimScene scene;
+  SimRng rng(4);
+  scene.addTexture(makeTexture(SimTextureKind::kNoise, 64, rng));
+  scene.background = 200;
+  scene.sprites = {SimSprite(sprite0), SimSprite(sprite1)};
+  scene.walk_cycles = {{"w", {0, 1}, "right"}};
+  SimObject o;
+  o.id = 1;
+  o.size = {0.4, 0.72, 1.8};
+  o.walk_cycle = 0;
+  o.motion.kind = SimObjectMotion::Kind::kPingPong;
+  o.motion.a = {4, 0, 0};
+  o.motion.b = {4, walk_direction_y, 0};
+  o.motion.speed = 1e-9;  // stands still, heading from a to b
+  scene.objects.push_back(o);
+  return scene;
+}
+
+cv::Mat walkerSprite(int grey) {
+  cv::Mat bgra(100, 40, CV_8UC4, cv::Scalar(250, 250, 250, 0));
+  bgra.rowRange(0, 30).setTo(cv::Scalar(grey, grey, grey, 255));
+  bgra(cv::Rect(0, 30, 15, 70)).setTo(cv::Scalar(grey, grey, grey, 255));
+  return bgra;
+}
+
+TEST(SimRenderer, WalkerIsItsSilhouetteMirroredToItsDirection) {
+  SimCamera cam;
+  cam.distortion = {0, 0, 0, 0};
+  const Eigen::Isometry3d T_W_C = pose(eulerZyxToRotation(-M_PI / 2, 0, -M_PI / 2), Eigen::Vector3d(0, 0, 0.9));
+  SimRenderer renderer(cam);
+  double left_column_side[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const double dir = k == 0 ? -1.0 : 1.0;  // world -y is the camera's right (x_C = -y_W)
+    const SimScene scene = walkerScene(dir, walkerSprite(60), walkerSprite(60));
+    SimFrame f;
+    renderer.render(scene, T_W_C, 0, SimRenderOptions{}, &f);
+    ASSERT_EQ(f.boxes.size(), 1u);
+    const cv::Rect box = f.boxes[0].box;
+    // 1.8 m tall at 4 m: fy * 1.8 / 4 pixels; 0.72 m wide.
+    EXPECT_NEAR(box.height, cam.fy * 1.8 / 4, 2.0);
+    EXPECT_NEAR(box.width, cam.fx * 0.72 / 4, 2.0);
+    const int masked = cv::countNonZero(f.mask);
+    EXPECT_NEAR(masked, 0.5625 * box.area(), 0.03 * box.area());  // 0.3 + 0.7 * 15 / 40 opaque
+    EXPECT_EQ(masked, f.boxes[0].visible_pixels);
+    double lo, hi;
+    cv::minMaxLoc(f.image, &lo, &hi, nullptr, nullptr, f.mask);
+    EXPECT_GE(lo, 59);  // no background grey (250) blended in at the silhouette
+    EXPECT_LE(hi, 61);
+    // Where is the column (below the band)? Its mean x relative to the box centre.
+    const cv::Moments m = cv::moments(f.mask(cv::Rect(box.x, box.y + box.height / 2, box.width, box.height / 2)), true);
+    left_column_side[k] = m.m10 / m.m00 - box.width / 2.0;
+  }
+  // Walking to the camera's right, as in the video: column on the image left; the other way: mirrored.
+  EXPECT_LT(left_column_side[0], -0.2 * cam.fx * 0.72 / 4);
+  EXPECT_GT(left_column_side[1], 0.2 * cam.fx * 0.72 / 4);
+}
+
+TEST(SimRenderer, WalkerCyclePlaysItsFrames) {
+  SimCamera cam;
+  cam.distortion = {0, 0, 0, 0};
+  const Eigen::Isometry3d T_W_C = pose(eulerZyxToRotation(-M_PI / 2, 0, -M_PI / 2), Eigen::Vector3d(0, 0, 0.9));
+  SimScene scene = walkerScene(-1, walkerSprite(60), walkerSprite(90));
+  scene.objects[0].motion.speed = 1.3;  // 10 frames per second
+  scene.objects[0].motion.b = {4, -1000, 0};
+  SimRenderer renderer(cam);
+  std::vector<double> greys;
+  for (int64_t t_ms : {20, 120, 220, 320}) {
+    SimFrame f;
+    renderer.render(scene, T_W_C, t_ms * 1000000, SimRenderOptions{}, &f);
+    ASSERT_GT(cv::countNonZero(f.mask), 100);
+    greys.push_back(cv::mean(f.image, f.mask)[0]);
+  }
+  EXPECT_NEAR(greys[0], 60, 1);
+  EXPECT_NEAR(greys[1], 90, 1);
+  EXPECT_NEAR(greys[2], 60, 1);
+  EXPECT_NEAR(greys[3], 90, 1);
+}
+
 TEST(SimRenderer, DeterministicBytes) {
   const int64_t t0 = 0;
   const SineTrajectory traj = makeSceneTrajectory("street", 9, t0, t0 + secToNs(5));
