@@ -35,7 +35,7 @@ struct RunArgs {
   std::string config_path;
   std::string mask = "none";
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder, detector_config;
-  int detect_every = 1;
+  int detect_every = 0;  // 0: the run config's (default 1)
   bool quiet = false;
 };
 
@@ -181,9 +181,9 @@ void registerRunCommand(CLI::App& root) {
                   "--mask detector: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights model")
       ->check(CLI::ExistingFile);
   cmd->add_option("--detect-every", args->detect_every,
-                  "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+                  "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between "
+                  "(default: the run config's dynamic: detect_every, 1)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
       ->capture_default_str();

@@ -18,6 +18,30 @@ RunConfig loadRunConfig(const std::string& path) {
     vio::readEstimatorOptions(e, &c.estimator);
     e.finish();
   }
+  if (r.has("dynamic")) {
+    data::YamlOptionsReader d = r.child("dynamic");
+    tracking::DynamicMaskerOptions& o = c.dynamic;
+    d.optional("detect_every", o.detect_every, 1, 1000);
+    std::string tracker = "sort", noise = "adaptive";
+    d.optional("tracker", tracker);
+    if (tracker != "sort" && tracker != "none") d.fail("tracker", "must be sort or none");
+    o.track = tracker == "sort";
+    d.optional("noise", noise);
+    if (noise != "adaptive" && noise != "fixed") d.fail("noise", "must be adaptive or fixed");
+    d.optional("max_age", o.sort.max_age, 0, 1000);
+    d.optional("min_hits", o.sort.min_hits, 0, 1000);
+    d.optional("iou_min", o.sort.iou_min, 0.0, 1.0);
+    d.optional("lambda", o.sort.filter.lambda, 1e-6, 1e6);
+    d.optional("beta_pos", o.sort.filter.beta_pos, 1e-6, 1e6);
+    d.optional("beta_size", o.sort.filter.beta_size, 1e-6, 1e6);
+    d.optional("window", o.sort.filter.window, 1, 1000);
+    if (noise == "fixed") o.sort.filter.lambda = 1e6;  // erf saturates at once: R = beta, a fixed R
+    d.optional("erode_radius_px", o.refinement.erode_radius_px, 0, 100);
+    d.optional("dilate_radius_px", o.refinement.dilate_radius_px, 0, 200);
+    d.optional("min_box_side_px", o.min_box_side_px, 0.0, 1000.0);
+    if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
+    d.finish();
+  }
   if (r.has("playback")) {
     data::YamlOptionsReader p = r.child("playback");
     data::PlaybackOptions& o = c.playback;

@@ -2,6 +2,10 @@
 // The configuration of `adugs run --config FILE` (data/config/*.yaml): one map per stage,
 //   tracker:   vio/feature_tracker_options.h keys
 //   estimator: vio/estimator_options.h keys (static_init:, init: nested)
+//   dynamic:   the dynamic-object stage of --mask detector (detect_every, tracker: sort | none,
+//              noise: adaptive | fixed, SORT's max_age / min_hits / iou_min, the adaptive noise's
+//              lambda / beta_pos / beta_size / window, erode_radius_px / dilate_radius_px,
+//              min_box_side_px)
 //   playback:  bag topics and the reorder window (image_topic, imu_topic, accel_topic,
 //              gyro_topic, gt_topic, gt_parent_frame, gt_child_frame, reorder_window_s); the
 //              command line's options win over these, these over the --dataset preset
@@ -9,6 +13,7 @@
 #include <string>
 
 #include "data/dataset_preset.h"
+#include "tracking/dynamic_masker.h"
 #include "vio/estimator_options.h"
 #include "vio/feature_tracker_options.h"
 
@@ -17,6 +22,7 @@ namespace adugs::app {
 struct RunConfig {
   vio::FeatureTrackerOptions tracker;
   vio::EstimatorOptions estimator;
+  tracking::DynamicMaskerOptions dynamic;
   data::PlaybackOptions playback;  // only the topic / frame / window fields are read
 };
 

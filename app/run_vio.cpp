@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "data/input_error.h"
 #include "app/run_config.h"
 #include "app/run_report.h"
 #include "app/vio_frontend_stage.h"
@@ -47,10 +48,14 @@ void runVio(const VioRunArgs& a) {
   const std::string& gt_path = sequence.gt_path;
 
   const data::CameraModel camera(sequence.camera);
+  tracking::DynamicMaskerOptions masker = config.dynamic;
+  if (a.detect_every > 0) masker.detect_every = a.detect_every;
+  if (!masker.track && masker.detect_every != 1)
+    throw data::InputError("--detect-every", 0, "detect_every", "detecting every n-th frame needs the tracker (dynamic: tracker: sort)");
   FrontEndStage front_end(
       source, config.tracker, camera, sequence.camera.T_B_C,
       {a.mask, sequence.mask_dir, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder,
-       a.detector_config, a.detect_every});
+       a.detector_config, masker});
   const double focal = 0.5 * (camera.fx() + camera.fy());
   vio::SlidingWindowEstimator estimator(config.estimator, focal, sequence.camera.T_B_C,
                                         imuOptions(sequence.imu_noise));

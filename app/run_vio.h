@@ -14,7 +14,7 @@ struct VioRunArgs {
   // --mask detector: detector model, box segmenter (grabcut | box | mobilesam + its two files).
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string detector_config;  // darknet .cfg ("" = beside the .weights)
-  int detect_every = 1;
+  int detect_every = 0;  // > 0: overrides the run config's dynamic: detect_every
   bool quiet = false;
 };
 

@@ -48,10 +48,8 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
       throw data::InputError("--detector-model", 0, "detector_model",
                              "--mask detector needs a detector model (ultralytics .torchscript, .onnx or darknet .weights)");
     detector_ = tracking::makeDetector(options_.detector_model, options_.detector_config);
-    tracking::DynamicMaskerOptions masker_options;
-    masker_options.detect_every = options_.detect_every;
     masker_ = std::make_unique<tracking::DynamicMasker>(
-        masker_options,
+        options_.masker,
         tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
   }
 }

@@ -9,6 +9,8 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+
+#include "tracking/dynamic_masker.h"
 #include <vector>
 
 #include "app/pipeline_channel.h"
@@ -40,7 +42,7 @@ struct FrontEndStageOptions {
   std::string mask_dir;       // --mask gt: the simulator's mask0/data folder
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string detector_config;  // darknet .cfg ("" = beside the .weights)
-  int detect_every = 1;         // the detector runs on every n-th frame, SORT predicts between
+  tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement (run config's dynamic:)
 };
 
 class FrontEndStage {

@@ -18,14 +18,20 @@ DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
       frames_since_detection_(options.detect_every) {
   if (!segmenter_) throw std::invalid_argument("DynamicMasker: no segmenter");
   if (options_.detect_every < 1) throw std::invalid_argument("DynamicMasker: detect_every must be >= 1");
+  if (!options_.track && options_.detect_every != 1)
+    throw std::invalid_argument("DynamicMasker: detecting every n-th frame needs the tracker to carry the boxes");
 }
 
 DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
                                          const std::vector<Detection>& detections) {
   DynamicMaskResult r;
   auto t0 = std::chrono::steady_clock::now();
-  // dt: the frames since the last detection, so the filter's velocity stays per frame.
-  r.objects = sort_.update(detections, frames_since_detection_);
+  if (options_.track) {
+    // dt: the frames since the last detection, so the filter's velocity stays per frame.
+    r.objects = sort_.update(detections, frames_since_detection_);
+  } else {
+    for (const Detection& d : detections) r.objects.push_back({0, d.box, d.class_id, true, 1, 0});
+  }
   frames_since_detection_ = 1;
   r.sort_ms = msSince(t0);
   return maskBoxes(image, std::move(r));

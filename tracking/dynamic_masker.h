@@ -22,6 +22,9 @@ struct DynamicMaskerOptions {
   // carry the boxes (SortTracker::predict), which saves the detector's time at a cost in
   // accuracy measured in doc/results.md.
   int detect_every = 1;
+  // false: each frame's detections are segmented as they are, without SORT (the paper's "no
+  // SORT" ablation); needs detect_every = 1.
+  bool track = true;
 };
 
 struct DynamicMaskResult {

@@ -145,6 +145,29 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   const double fraction = std::stod(summary.substr(at + 23));
   EXPECT_GT(fraction, 0.001) << summary;
   EXPECT_LT(fraction, 0.2) << summary;
+  // The run config's dynamic: map: no SORT (the ablation) runs; bad keys and values are named.
+  writeText(out / "no_sort.yaml", "dynamic:\n  tracker: none\n  dilate_radius_px: 4\n");
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
+                         (models / "detect.torchscript").string() + " --segmenter box --config " +
+                         (out / "no_sort.yaml").string() + " --out " + (out / "no_sort").string(),
+                     &log),
+            0)
+      << log;
+  const std::string no_sort = readFile(out / "no_sort" / "summary.yaml");
+  const size_t no_sort_at = no_sort.find("masked_image_fraction: ");
+  ASSERT_NE(no_sort_at, std::string::npos) << no_sort;
+  EXPECT_GT(std::stod(no_sort.substr(no_sort_at + 23)), 0.001) << no_sort;
+  for (const std::string& bad : {std::string("dynamic:\n  tracker: none\n  detect_every: 2\n"),
+                                 std::string("dynamic:\n  noize: fixed\n"), std::string("dynamic:\n  noise: fxed\n")}) {
+    writeText(out / "bad.yaml", bad);
+    EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
+                           (models / "detect.torchscript").string() + " --config " + (out / "bad.yaml").string() +
+                           " --out " + (out / "bad").string(),
+                       &log),
+              2)
+        << bad << log;
+    EXPECT_NE(log.find("bad.yaml"), std::string::npos) << log;
+  }
   // A decoder with the wrong interface stops the run before any frame, naming the file.
   EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
                          (models / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
