@@ -36,6 +36,7 @@ struct RunArgs {
   std::string mask = "none";
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder, detector_config;
   int detect_every = 0;  // 0: the run config's (default 1)
+  std::string overlay;
   bool quiet = false;
 };
 
@@ -114,6 +115,7 @@ void runSequence(const RunArgs& a) {
   v.sam_encoder = a.sam_encoder;
   v.sam_decoder = a.sam_decoder;
   v.detect_every = a.detect_every;
+  v.overlay = a.overlay;
   v.quiet = a.quiet;
   runVio(v);
 }
@@ -184,6 +186,9 @@ void registerRunCommand(CLI::App& root) {
                   "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between "
                   "(default: the run config's dynamic: detect_every, 1)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--overlay", args->overlay,
+                  "write a video (.avi or .mp4) of every frame: dynamic mask tinted, boxes with ids, features kept "
+                  "(green) and dropped as dynamic (red), a status line");
   cmd->add_option("--segmenter", args->segmenter, "--mask detector: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
       ->capture_default_str();

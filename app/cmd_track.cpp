@@ -1,11 +1,14 @@
 // `adugs track`: the enhanced SORT tracker, fed either
 //   --detections det.txt                       a MOTChallenge detection file (the public
 //                                              detections trackers are benchmarked with), or
-//   VIDEO --detector-model M [--detector-config C]   a detector run on every frame of a video
-//                                              (--detect-every n: every n-th frame, SORT's
-//                                              predictions in between);
-// writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1), and
-// with --overlay a video of the tracked boxes and their ids.
+//   INPUT --detector-model M [--detector-config C]   a detector run on every frame of INPUT: a
+//                                              video, a folder of images (name order) or a
+//                                              sequence (its mav0/cam0/data); --detect-every n:
+//                                              every n-th frame, SORT's predictions in between;
+// writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1);
+// with --segmenter the dynamic stage's masks (DynamicMasker: its own SORT with the mask's rules,
+// boxes segmented and refined), written as DIR/masks/NNNNNN.png with --masks; with --overlay a
+// video of the tracked boxes, their ids and the tinted mask.
 //
 // Track output rule (MOT files): a track is written in a frame when a detection was fused into it
 // in that frame and it has min_hits detections (or the sequence is younger than min_hits frames),
@@ -23,10 +26,14 @@
 #include "data/input_error.h"
 #include "data/mot_io.h"
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "app/overlay_video.h"
 #include "tracking/detector_factory.h"
+#include "tracking/dynamic_masker.h"
+#include "tracking/segmenter_factory.h"
 #include "tracking/sort_tracker.h"
 
 namespace adugs::app {
@@ -36,6 +43,8 @@ namespace fs = std::filesystem;
 struct TrackArgs {
   std::string detections, out_dir = "out/track";
   std::string video, detector_model, detector_config, overlay;
+  std::string segmenter, sam_encoder, sam_decoder;  // non-empty segmenter: compute the masks
+  bool write_masks = false;
   double min_score = -1e9;
   bool write_coasting = false;
   int detect_every = 1;
@@ -48,15 +57,29 @@ class DetectionFeed {
  public:
   explicit DetectionFeed(const TrackArgs& a) : a_(a) {
     if (!a.detections.empty() == !a.video.empty())
-      throw CLI::ValidationError("input", "give either --detections det.txt or a VIDEO with --detector-model");
+      throw CLI::ValidationError("input", "give either --detections det.txt or an INPUT (video, image folder, sequence) with --detector-model");
     if (!a.detections.empty()) {
       file_ = data::readMotFile(a.detections);
       if (file_.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
       last_frame_ = file_.rbegin()->first;
       return;
     }
-    if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "a VIDEO input needs a detector model");
+    if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model");
     detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
+    if (fs::is_directory(a.video)) {
+      // A sequence (its camera images) or a plain folder of images, in name order.
+      const fs::path cam = fs::path(a.video) / "mav0" / "cam0" / "data";
+      const fs::path folder = fs::is_directory(cam) ? cam : fs::path(a.video);
+      for (const auto& e : fs::directory_iterator(folder)) {
+        std::string ext = e.path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm" || ext == ".ppm")
+          images_.push_back(e.path().string());
+      }
+      std::sort(images_.begin(), images_.end());
+      if (images_.empty()) throw data::InputError(folder.string(), 0, "", "no images (.png, .jpg, .bmp, .pgm) in this folder");
+      return;
+    }
     if (!video_.open(a.video) || !video_.isOpened())
       throw data::InputError(a.video, 0, "", "OpenCV cannot open this video");
   }
@@ -65,7 +88,17 @@ class DetectionFeed {
   bool next(int frame, bool detect, std::vector<tracking::Detection>* dets, cv::Mat* image) {
     dets->clear();
     if (detector_) {
-      if (!video_.read(*image) || image->empty()) return false;
+      if (!images_.empty()) {
+        if (frame > static_cast<int>(images_.size())) return false;
+        const std::string& path = images_[static_cast<size_t>(frame - 1)];
+        *image = cv::imread(path, cv::IMREAD_UNCHANGED);
+        if (image->empty() || (image->depth() != CV_8U && image->depth() != CV_16U))
+          throw data::InputError(path, 0, "", "unreadable image");
+        if (image->depth() == CV_16U) image->convertTo(*image, CV_8U, 1.0 / 256);  // TUM-VI's 16-bit PNGs
+        if (image->channels() == 4) cv::cvtColor(*image, *image, cv::COLOR_BGRA2BGR);
+      } else if (!video_.read(*image) || image->empty()) {
+        return false;
+      }
       if (detect) *dets = detector_->detect(*image);
       return true;
     }
@@ -85,18 +118,8 @@ class DetectionFeed {
   int last_frame_ = 0;
   std::unique_ptr<tracking::Detector> detector_;
   cv::VideoCapture video_;
+  std::vector<std::string> images_;  // folder input, in name order
 };
-
-void drawTracks(cv::Mat& image, const std::vector<tracking::TrackedObject>& tracks, int frame) {
-  for (const tracking::TrackedObject& t : tracks) {
-    const cv::Scalar colour((t.id * 67) % 256, (t.id * 151) % 256, (t.id * 37 + 128) % 256);
-    cv::rectangle(image, t.box.rect(), colour, t.detected ? 2 : 1);
-    cv::putText(image, std::to_string(t.id), {static_cast<int>(t.box.left()), static_cast<int>(t.box.top()) - 3},
-                cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1);
-  }
-  cv::putText(image, "frame " + std::to_string(frame) + ", " + std::to_string(tracks.size()) + " tracks", {8, 20},
-              cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 2);
-}
 
 void runTrack(const TrackArgs& a) {
   DetectionFeed feed(a);
@@ -108,7 +131,19 @@ void runTrack(const TrackArgs& a) {
   std::ofstream out(path);
   if (!out) throw data::InputError(path, 0, "", "cannot write");
   out << std::fixed << std::setprecision(2);
-  cv::VideoWriter overlay;
+  std::unique_ptr<OverlayVideo> overlay;
+  if (!a.overlay.empty()) overlay = std::make_unique<OverlayVideo>(a.overlay, 10.0);
+  // The masks: the dynamic stage with its own SORT (the mask's rules: coasting boxes kept).
+  std::unique_ptr<tracking::DynamicMasker> masker;
+  if (!a.segmenter.empty()) {
+    if (a.video.empty()) throw CLI::ValidationError("--segmenter", "masks need the images: give an INPUT, not --detections");
+    tracking::DynamicMaskerOptions m;
+    m.detect_every = a.detect_every;
+    masker = std::make_unique<tracking::DynamicMasker>(m, tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder));
+    if (a.write_masks) fs::create_directories(fs::path(a.out_dir) / "masks");
+  } else if (a.write_masks) {
+    throw CLI::ValidationError("--masks", "needs --segmenter grabcut|box|mobilesam");
+  }
   size_t rows = 0;
   int frame = 1;
   std::vector<tracking::Detection> dets;
@@ -117,6 +152,7 @@ void runTrack(const TrackArgs& a) {
   for (bool detect = true; feed.next(frame, detect, &dets, &image); ++frame) {
     // Frames the detector skips get the tracks predicted to them; a track counts as found there
     // when it was found at the last detection.
+    const bool detect_this = detect;
     const std::vector<tracking::TrackedObject> tracks =
         detect ? tracker.update(dets, frames_since_detection) : tracker.predict(frames_since_detection);
     frames_since_detection = detect ? 1 : frames_since_detection + 1;
@@ -129,12 +165,22 @@ void runTrack(const TrackArgs& a) {
       ++rows;
     }
     out.flush();  // a killed run keeps the frames already tracked
-    if (!a.overlay.empty() && !image.empty()) {
-      if (!overlay.isOpened() &&
-          !overlay.open(a.overlay, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, image.size()))
-        throw data::InputError(a.overlay, 0, "", "cannot write this video (use .avi)");
-      drawTracks(image, tracks, frame);
-      overlay.write(image);
+    cv::Mat mask;
+    if (masker) {
+      mask = (detect_this ? masker->process(image, dets) : masker->carry(image)).mask;
+      if (a.write_masks) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%06d.png", frame);
+        const std::string mask_path = (fs::path(a.out_dir) / "masks" / name).string();
+        if (!cv::imwrite(mask_path, mask)) throw data::InputError(mask_path, 0, "", "cannot write");
+      }
+    }
+    if (overlay && !image.empty()) {
+      OverlayContent c;
+      c.mask = mask;
+      c.objects = tracks;
+      c.status = "frame " + std::to_string(frame) + ", " + std::to_string(tracks.size()) + " tracks";
+      overlay->write(drawOverlay(image, c));
     }
     if (!a.video.empty() && frame % 100 == 0) std::cerr << "track: " << frame << " frames\n" << std::flush;
   }
@@ -151,15 +197,21 @@ void registerTrackCommand(CLI::App& root) {
   args->sort.min_hits = 3;
   CLI::App* cmd = root.add_subcommand(
       "track", "Run the enhanced SORT tracker on MOTChallenge detections or on a detector's output for a video");
-  cmd->add_option("video", args->video, "video to run the detector on (instead of --detections)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("input", args->video,
+                  "video, folder of images or sequence to run the detector on (instead of --detections)")
+      ->check(CLI::ExistingPath);
   cmd->add_option("--detections", args->detections, "MOTChallenge det.txt (frame,-1,left,top,w,h,score,...)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--detector-model", args->detector_model, "VIDEO: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights")
+  cmd->add_option("--detector-model", args->detector_model, "INPUT: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--detector-config", args->detector_config, "VIDEO: darknet .cfg (default: beside the .weights)")
+  cmd->add_option("--detector-config", args->detector_config, "INPUT: darknet .cfg (default: beside the .weights)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--overlay", args->overlay, "write the tracked boxes and ids over the frames (.avi)");
+  cmd->add_option("--overlay", args->overlay, "write the tracked boxes, ids and mask over the frames (.avi or .mp4)");
+  cmd->add_option("--segmenter", args->segmenter, "INPUT: also compute the dynamic masks with this box segmenter")
+      ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}));
+  cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: mobilesam_encoder.pt");
+  cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: mobilesam_decoder.pt");
+  cmd->add_flag("--masks", args->write_masks, "--segmenter: write each frame's mask to DIR/masks/NNNNNN.png");
   cmd->add_option("--out", args->out_dir, "output folder (tracks.txt)")->capture_default_str();
   cmd->add_option("--min-score", args->min_score, "ignore detections scoring below this");
   cmd->add_option("--max-age", args->sort.max_age, "frames a track survives without a detection")

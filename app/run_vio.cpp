@@ -55,7 +55,7 @@ void runVio(const VioRunArgs& a) {
   FrontEndStage front_end(
       source, config.tracker, camera, sequence.camera.T_B_C,
       {a.mask, sequence.mask_dir, a.detector_model, a.segmenter, a.sam_encoder, a.sam_decoder,
-       a.detector_config, masker});
+       a.detector_config, masker, a.overlay});
   const double focal = 0.5 * (camera.fx() + camera.fy());
   vio::SlidingWindowEstimator estimator(config.estimator, focal, sequence.camera.T_B_C,
                                         imuOptions(sequence.imu_noise));

@@ -15,6 +15,7 @@ struct VioRunArgs {
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string detector_config;  // darknet .cfg ("" = beside the .weights)
   int detect_every = 0;  // > 0: overrides the run config's dynamic: detect_every
+  std::string overlay;   // --overlay out.avi|.mp4
   bool quiet = false;
 };
 

@@ -52,6 +52,7 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
         options_.masker,
         tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
   }
+  if (!options_.overlay_path.empty()) overlay_ = std::make_unique<OverlayVideo>(options_.overlay_path, 20.0);
 }
 
 FrontEndStage::~FrontEndStage() = default;
@@ -65,7 +66,23 @@ cv::Mat FrontEndStage::makeMask(const data::Frame& frame, TrackedFrame* out) {
                                             : masker_->carry(frame.image);
   out->mask_ms = msSince(t0);
   out->masked_fraction = r.masked_fraction;
+  last_objects_ = r.objects;
   return r.mask;
+}
+
+void FrontEndStage::writeOverlay(const data::Frame& frame, const cv::Mat& mask, const TrackedFrame& out) {
+  if (!overlay_) return;
+  OverlayContent c;
+  c.mask = mask;
+  c.objects = last_objects_;
+  c.kept = out.features.pixels;
+  c.dropped = tracker_.lastDroppedDynamic();
+  const double masked = mask.empty() ? 0.0 : static_cast<double>(cv::countNonZero(mask)) / static_cast<double>(mask.total());
+  char status[160];
+  std::snprintf(status, sizeof status, "t %.2f s | features %zu kept, %d dropped as dynamic | masked %.1f %% | %zu objects",
+                out.sequence_s, out.features.size(), out.dropped_dynamic, 100.0 * masked, last_objects_.size());
+  c.status = status;
+  overlay_->write(drawOverlay(frame.image, c));
 }
 
 void FrontEndStage::run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>& gyro_biases) {
@@ -96,6 +113,7 @@ void FrontEndStage::run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>&
     out.features = tracker_.trackFrame(m.frame.t_ns, m.frame.image, mask);
     out.frontend_ms = msSince(t0);
     out.dropped_dynamic = tracker_.lastStats().dropped_dynamic;
+    writeOverlay(m.frame, mask, out);
     if (!frames.push(std::move(out))) break;
     out = TrackedFrame{};
     previous_frame_t = m.frame.t_ns;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "app/overlay_video.h"
 #include "tracking/dynamic_masker.h"
 #include <vector>
 
@@ -43,6 +44,7 @@ struct FrontEndStageOptions {
   std::string detector_model, segmenter = "grabcut", sam_encoder, sam_decoder;
   std::string detector_config;  // darknet .cfg ("" = beside the .weights)
   tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement (run config's dynamic:)
+  std::string overlay_path;  // non-empty: the overlay video (app/overlay_video.h) of every frame
 };
 
 class FrontEndStage {
@@ -62,6 +64,7 @@ class FrontEndStage {
 
  private:
   cv::Mat makeMask(const data::Frame& frame, TrackedFrame* out);
+  void writeOverlay(const data::Frame& frame, const cv::Mat& mask, const TrackedFrame& out);
 
   data::SequenceSource& source_;
   vio::FeatureTracker tracker_;
@@ -69,6 +72,8 @@ class FrontEndStage {
   FrontEndStageOptions options_;
   std::unique_ptr<tracking::Detector> detector_;
   std::unique_ptr<tracking::DynamicMasker> masker_;
+  std::vector<tracking::TrackedObject> last_objects_;  // the masker's boxes of the current frame
+  std::unique_ptr<OverlayVideo> overlay_;
   vio::GyroRotationPredictor gyro_;
   int imu_samples_ = 0;
   int64_t first_t_ = -1;

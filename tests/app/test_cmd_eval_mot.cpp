@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <map>
 #include <regex>
@@ -152,6 +153,60 @@ TEST(CmdTrack, DetectingEverySecondFrameCostsLittle) {
                      &log),
             0);
   EXPECT_NE(log.find("--detect-every"), std::string::npos) << log;
+}
+
+// A folder of images (12 frames of the pedestrian video as PNG) with the dynamic stage's masks:
+// one mask per frame, people masked, the overlay video written frame by frame.
+TEST(CmdTrack, ImageFolderWithMasksAndOverlay) {
+  const auto weights = sharedModelsDir() / "yolo-fastest-1.1_coco/yolo-fastest-1.1-xl.weights";
+  ADUGS_REQUIRE_SHARED(weights);
+  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+  ASSERT_TRUE(std::filesystem::exists(video)) << video << " missing: run scripts/setup.sh (opencv-doc)";
+  TempDir dir;
+  std::filesystem::create_directories(dir / "frames");
+  {
+    cv::VideoCapture in(video);
+    cv::Mat frame;
+    for (int k = 0; k < 12 && in.read(frame); ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "f%03d.png", k);
+      cv::imwrite((dir / "frames" / name).string(), frame);
+    }
+  }
+  test::writeText(dir / "frames" / "notes.txt", "not an image: ignored\n");
+  std::string log;
+  ASSERT_EQ(runAdugs("track " + (dir / "frames").string() + " --detector-model " + weights.string() +
+                         " --segmenter grabcut --masks --overlay " + (dir / "overlay.mp4").string() + " --out " +
+                         (dir / "o").string(),
+                     &log),
+            0)
+      << log;
+  int masks = 0;
+  double masked = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "o" / "masks")) {
+    const cv::Mat m = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_EQ(m.size(), cv::Size(768, 576));
+    masked += cv::countNonZero(m) / double(m.total());
+    ++masks;
+  }
+  EXPECT_EQ(masks, 12);
+  EXPECT_GT(masked / masks, 0.01) << "4-8 people per frame are masked";
+  EXPECT_LT(masked / masks, 0.3);
+  cv::VideoCapture overlay((dir / "overlay.mp4").string());
+  ASSERT_TRUE(overlay.isOpened());
+  EXPECT_EQ(static_cast<int>(overlay.get(cv::CAP_PROP_FRAME_COUNT)), 12);
+  // --masks without a segmenter, and an empty folder, are refused.
+  EXPECT_NE(runAdugs("track " + (dir / "frames").string() + " --detector-model " + weights.string() + " --masks --out " +
+                         (dir / "p").string(),
+                     &log),
+            0);
+  EXPECT_NE(log.find("--segmenter"), std::string::npos) << log;
+  std::filesystem::create_directories(dir / "empty");
+  EXPECT_EQ(runAdugs("track " + (dir / "empty").string() + " --detector-model " + weights.string() + " --out " +
+                         (dir / "q").string(),
+                     &log),
+            2);
+  EXPECT_NE(log.find("no images"), std::string::npos) << log;
 }
 
 // `adugs track VIDEO --detector-model` on the first 40 frames of OpenCV's pedestrian video with the

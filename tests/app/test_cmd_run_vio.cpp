@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
@@ -116,6 +117,39 @@ TEST_F(CmdRunVioSim, DetectorMasksRunTheWholeDynamicObjectStage) {
                &log),
       0);
   EXPECT_NE(log.find("detector-model"), std::string::npos) << log;
+}
+
+// --overlay: one video frame per camera frame, the mask tinted red where the simulator's people are.
+TEST_F(CmdRunVioSim, OverlayVideoShowsTheMaskAndFeatures) {
+  TempDir out;
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask gt --overlay " + (out / "overlay.avi").string() +
+                         " --out " + out.path().string(),
+                     &log),
+            0)
+      << log;
+  cv::VideoCapture video((out / "overlay.avi").string());
+  ASSERT_TRUE(video.isOpened());
+  const int frames = static_cast<int>(video.get(cv::CAP_PROP_FRAME_COUNT));
+  int images = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir_->path() / "mav0" / "cam0" / "data")) images += e.is_regular_file();
+  EXPECT_EQ(frames, images);
+  // Somewhere the tint: red well above green and blue (MJPG blurs it a little).
+  cv::Mat frame;
+  int reddish = 0;
+  while (video.read(frame)) {
+    std::vector<cv::Mat> bgr;
+    cv::split(frame, bgr);
+    cv::Mat red_dominant = (bgr[2] > bgr[1] + 40) & (bgr[2] > bgr[0] + 40);
+    reddish += cv::countNonZero(red_dominant);
+  }
+  EXPECT_GT(reddish, 1000);
+  EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --overlay " + (out / "overlay.gif").string() + " --out " +
+                         out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("overlay.gif"), std::string::npos) << log;
 }
 
 // The libtorch backends inside `adugs run`: an ultralytics-interface TorchScript detector and
