@@ -39,6 +39,8 @@ RunConfig loadRunConfig(const std::string& path) {
     d.optional("erode_radius_px", o.refinement.erode_radius_px, 0, 100);
     d.optional("dilate_radius_px", o.refinement.dilate_radius_px, 0, 200);
     d.optional("min_box_side_px", o.min_box_side_px, 0.0, 1000.0);
+    d.optional("segment_every", o.segment_every, 0, 1000);
+    d.optional("segment_async", o.segment_async);
     if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
     d.finish();
   }

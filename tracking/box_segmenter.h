@@ -2,7 +2,7 @@
 // Box-prompted segmentation (DESIGN.md): each tracked object box prompts a segmenter for the
 // object's pixels; the union over the boxes is the raw dynamic mask (refined afterwards by
 // tracking/mask_refinement). Backends: the weight-free GrabCut segmenter (default) and MobileSAM
-// when the user supplies its ONNX files.
+// when the user supplies its TorchScript files.
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -17,6 +17,8 @@ class BoxSegmenter {
   // box, 0 elsewhere. Boxes may extend past the image; they are clipped.
   virtual cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) = 0;
   virtual const char* name() const = 0;
+  // Too slow to run on every frame on a CPU (the dynamic masker then runs it sparsely).
+  virtual bool slow() const { return false; }
 };
 
 // The integer pixel rectangle of a box clipped to a width x height image (may be empty).

@@ -20,6 +20,13 @@ DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
   if (options_.detect_every < 1) throw std::invalid_argument("DynamicMasker: detect_every must be >= 1");
   if (!options_.track && options_.detect_every != 1)
     throw std::invalid_argument("DynamicMasker: detecting every n-th frame needs the tracker to carry the boxes");
+  if (options_.segment_every < 0) throw std::invalid_argument("DynamicMasker: segment_every must be >= 0");
+  const int every = options_.segment_every > 0 ? options_.segment_every : segmenter_->slow() ? 10 : 1;
+  if (every > 1) {
+    if (!options_.track) throw std::invalid_argument("DynamicMasker: sparse segmentation needs the tracker's ids");
+    sparse_ = std::make_unique<SparseSegmenter>(std::move(segmenter_),
+                                                SparseSegmenterOptions{every, 0.25, options_.segment_async});
+  }
 }
 
 DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
@@ -48,11 +55,17 @@ DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
 
 DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResult r) {
   auto t0 = std::chrono::steady_clock::now();
-  std::vector<Box> boxes;
+  std::vector<TrackedObject> objects;
   for (const TrackedObject& o : r.objects)
-    if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px)
-      boxes.push_back(o.box);
-  const cv::Mat raw = segmenter_->segment(image, boxes);
+    if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px) objects.push_back(o);
+  cv::Mat raw;
+  if (sparse_) {
+    raw = sparse_->segment(image, objects);
+  } else {
+    std::vector<Box> boxes;
+    for (const TrackedObject& o : objects) boxes.push_back(o.box);
+    raw = segmenter_->segment(image, boxes);
+  }
   r.segment_ms = msSince(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -11,6 +11,7 @@
 #include "tracking/box_segmenter.h"
 #include "tracking/mask_refinement.h"
 #include "tracking/sort_tracker.h"
+#include "tracking/sparse_segmenter.h"
 
 namespace adugs::tracking {
 
@@ -25,6 +26,11 @@ struct DynamicMaskerOptions {
   // false: each frame's detections are segmented as they are, without SORT (the paper's "no
   // SORT" ablation); needs detect_every = 1.
   bool track = true;
+  // Frames between box-segmenter runs, the masks carried by the tracked boxes in between
+  // (tracking/sparse_segmenter.h); 0 = automatic: every frame, every 10th for a slow segmenter
+  // (MobileSAM). 1 = every frame.
+  int segment_every = 0;
+  bool segment_async = true;  // sparse runs on a worker thread (false: inline, reproducible)
 };
 
 struct DynamicMaskResult {
@@ -43,13 +49,16 @@ class DynamicMasker {
   DynamicMaskResult process(const cv::Mat& image, const std::vector<Detection>& detections);
   // A frame without detections (not detectionDue()): the tracked boxes predicted to it.
   DynamicMaskResult carry(const cv::Mat& image);
-  const BoxSegmenter& segmenter() const { return *segmenter_; }
+  const BoxSegmenter& segmenter() const { return sparse_ ? sparse_->inner() : *segmenter_; }
+  // Runs of the box segmenter so far when it runs sparsely (-1 when it runs on every frame).
+  int segmenterRuns() const { return sparse_ ? sparse_->innerRuns() : -1; }
 
  private:
   DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r);
 
   DynamicMaskerOptions options_;
-  std::unique_ptr<BoxSegmenter> segmenter_;
+  std::unique_ptr<BoxSegmenter> segmenter_;      // every frame, or
+  std::unique_ptr<SparseSegmenter> sparse_;      // sparsely
   SortTracker sort_;
   int frames_since_detection_;  // starts at detect_every: the first frame is detected
 };

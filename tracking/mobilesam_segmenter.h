@@ -30,6 +30,7 @@ class MobileSamSegmenter : public BoxSegmenter {
   ~MobileSamSegmenter() override;
   cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) override;
   const char* name() const override { return "mobilesam"; }
+  bool slow() const override { return true; }
   // How many boxes fell back to the filled box in the last call.
   int lastFallbacks() const { return fallbacks_; }
 
