@@ -41,6 +41,7 @@ RunConfig loadRunConfig(const std::string& path) {
     d.optional("min_box_side_px", o.min_box_side_px, 0.0, 1000.0);
     d.optional("segment_every", o.segment_every, 0, 1000);
     d.optional("segment_async", o.segment_async);
+    d.optional("camera_motion_compensation", o.camera_motion_compensation);
     if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
     d.finish();
   }

@@ -85,6 +85,7 @@ void runVio(const VioRunArgs& a) {
 
   RunStats stats;
   std::vector<double> frontend_ms, backend_ms, mask_ms, dynamic_drop, masked_fraction;
+  double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
   const auto wall_start = std::chrono::steady_clock::now();
   TrackedFrame f;
   try {
@@ -96,6 +97,9 @@ void runVio(const VioRunArgs& a) {
       if (f.mask_ms >= 0) {
         mask_ms.push_back(f.mask_ms);
         masked_fraction.push_back(f.masked_fraction);
+        exact_pixels += f.exact_pixels;
+        exact_covered += f.exact_covered;
+        masked_pixels += f.masked_pixels;
       }
       for (const data::ImuSample& s : f.imu) estimator.addImu(s);
       const auto t0 = std::chrono::steady_clock::now();
@@ -180,6 +184,9 @@ void runVio(const VioRunArgs& a) {
         << "  dynamic_mask_median: " << median(mask_ms) << "\n"
         << "dynamic_features_dropped_per_frame: " << mean(dynamic_drop) << "\n"
         << "masked_image_fraction: " << mean(masked_fraction) << "\n";
+  if (exact_pixels > 0)  // --mask detector on a sequence with the simulator's exact masks
+    extra << "dynamic_mask_vs_exact: {recall: " << exact_covered / exact_pixels
+          << ", precision: " << (masked_pixels > 0 ? exact_covered / masked_pixels : 0.0) << "}\n";
   stats.extra_summary = extra.str();
   writeRunOutputs(a.out_dir, "vio", traj_path, gt_path, stats);
 }

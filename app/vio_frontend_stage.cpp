@@ -37,7 +37,11 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
                              const vio::FeatureTrackerOptions& tracker_options,
                              const data::CameraModel& camera, const Eigen::Isometry3d& T_B_C,
                              const FrontEndStageOptions& options)
-    : source_(source), tracker_(tracker_options, camera), R_B_C_(T_B_C.rotation()), options_(options) {
+    : source_(source),
+      tracker_(tracker_options, camera),
+      R_B_C_(T_B_C.rotation()),
+      options_(options),
+      camera_(camera) {
   if (options_.mask == "gt" && options_.mask_dir.empty())
     throw data::InputError("--mask", 0, "mask",
                            "--mask gt needs the simulator's mav0/mask0/data folder, which this "
@@ -57,16 +61,33 @@ FrontEndStage::FrontEndStage(data::SequenceSource& source,
 
 FrontEndStage::~FrontEndStage() = default;
 
-cv::Mat FrontEndStage::makeMask(const data::Frame& frame, TrackedFrame* out) {
+cv::Mat FrontEndStage::makeMask(const data::Frame& frame, int64_t previous_t, TrackedFrame* out) {
   if (options_.mask == "gt") return loadGroundTruthMask(options_.mask_dir, frame);
   if (!masker_) return {};
   const auto t0 = std::chrono::steady_clock::now();
+  if (options_.masker.camera_motion_compensation && previous_t >= 0) {
+    // The gyro's rotation since the previous frame moves every static pixel; SORT removes it.
+    const Eigen::Matrix3d R_Ccur_Cprev =
+        (R_B_C_.transpose() * gyro_.rotation(previous_t, frame.t_ns, last_gyro_bias_).toRotationMatrix() * R_B_C_)
+            .transpose();
+    masker_->compensateCameraMotion([&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+      const Eigen::Vector3d f = R_Ccur_Cprev * camera_.unproject(p);
+      if (f.z() < 1e-3) return p;
+      return camera_.normalizedToPixel(f.head<2>() / f.z());
+    });
+  }
   const tracking::DynamicMaskResult r = masker_->detectionDue()
                                             ? masker_->process(frame.image, detector_->detect(frame.image))
                                             : masker_->carry(frame.image);
   out->mask_ms = msSince(t0);
   out->masked_fraction = r.masked_fraction;
   last_objects_ = r.objects;
+  if (!options_.mask_dir.empty()) {
+    const cv::Mat exact = loadGroundTruthMask(options_.mask_dir, frame);
+    out->exact_pixels = cv::countNonZero(exact);
+    out->exact_covered = cv::countNonZero(exact & r.mask);
+    out->masked_pixels = cv::countNonZero(r.mask);
+  }
   return r.mask;
 }
 
@@ -99,10 +120,11 @@ void FrontEndStage::run(Channel<TrackedFrame>& frames, Channel<Eigen::Vector3d>&
       continue;
     }
     out.sequence_s = data::nsToSec(m.frame.t_ns - first_t_);
-    const cv::Mat mask = makeMask(m.frame, &out);
+    const cv::Mat mask = makeMask(m.frame, previous_frame_t, &out);
 
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
     if (frame_index >= 2 && !gyro_biases.pop(&gyro_bias)) break;  // the estimator stopped
+    last_gyro_bias_ = gyro_bias;
     if (previous_frame_t >= 0) {
       const Eigen::Matrix3d R_B =
           gyro_.rotation(previous_frame_t, m.frame.t_ns, gyro_bias).toRotationMatrix();

@@ -34,6 +34,9 @@ struct TrackedFrame {
   double sequence_s = 0;  // since the first measurement
   double frontend_ms = 0;
   double mask_ms = -1;  // < 0: no detector mask computed
+  // Detector masks scored against the simulator's exact masks (when the sequence has them):
+  // pixels of the exact mask, of those covered, and masked in all.
+  double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
   double masked_fraction = 0;
   int dropped_dynamic = 0;
 };
@@ -63,7 +66,8 @@ class FrontEndStage {
   int64_t firstTimeNs() const { return first_t_; }  // of the first measurement, -1 before
 
  private:
-  cv::Mat makeMask(const data::Frame& frame, TrackedFrame* out);
+  // previous_t: the previous frame's stamp (-1 for the first frame).
+  cv::Mat makeMask(const data::Frame& frame, int64_t previous_t, TrackedFrame* out);
   void writeOverlay(const data::Frame& frame, const cv::Mat& mask, const TrackedFrame& out);
 
   data::SequenceSource& source_;
@@ -75,6 +79,8 @@ class FrontEndStage {
   std::vector<tracking::TrackedObject> last_objects_;  // the masker's boxes of the current frame
   std::unique_ptr<OverlayVideo> overlay_;
   vio::GyroRotationPredictor gyro_;
+  data::CameraModel camera_;
+  Eigen::Vector3d last_gyro_bias_ = Eigen::Vector3d::Zero();  // the estimator's latest, for SORT's compensation
   int imu_samples_ = 0;
   int64_t first_t_ = -1;
 };

@@ -55,6 +55,26 @@ Box AdaptiveBoxFilter::predict(double dt) {
   return box();
 }
 
+void AdaptiveBoxFilter::warp(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map) {
+  const Eigen::Vector2d c(x_(0), x_(1));
+  const double hx = std::max(1.0, 0.5 * x_(2)), hy = std::max(1.0, 0.5 * x_(3));
+  Eigen::Matrix2d J;
+  J.col(0) = (map(c + Eigen::Vector2d(hx, 0)) - map(c - Eigen::Vector2d(hx, 0))) / (2 * hx);
+  J.col(1) = (map(c + Eigen::Vector2d(0, hy)) - map(c - Eigen::Vector2d(0, hy))) / (2 * hy);
+  const double sw = J.col(0).norm(), sh = J.col(1).norm();  // an axis-aligned box keeps its axes
+  Matrix8d T = Matrix8d::Zero();
+  T.block<2, 2>(0, 0) = J;
+  T(2, 2) = sw;
+  T(3, 3) = sh;
+  T.block<2, 2>(4, 4) = J;
+  T(6, 6) = sw;
+  T(7, 7) = sh;
+  const Eigen::Vector2d mapped = map(c);
+  x_ = T * x_;
+  x_.head<2>() = mapped;
+  P_ = T * P_ * T.transpose();
+}
+
 Eigen::Vector4d AdaptiveBoxFilter::update(const Box& detection) {
   const Eigen::Vector4d z(detection.cx, detection.cy, detection.w, detection.h);
   const Eigen::Vector4d innovation = z - x_.head<4>();

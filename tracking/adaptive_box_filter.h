@@ -10,6 +10,7 @@
 // r_floor keeps S invertible when the innovations vanish (a perfect detector).
 #include <Eigen/Core>
 #include <deque>
+#include <functional>
 
 #include "tracking/box.h"
 
@@ -40,6 +41,11 @@ class AdaptiveBoxFilter {
 
   // Moves the state dt frames ahead; returns the predicted box (w, h kept >= 1 px).
   Box predict(double dt = 1.0);
+  // Camera-motion compensation: moves the state as the image moved, `map` taking a pixel of the
+  // previous image to the current one (e.g. the gyro's rotation through the camera model): the
+  // centre is mapped, size and velocity go through the map's local Jacobian at the centre (central
+  // differences over the box), and so does the covariance.
+  void warp(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map);
   // Fuses a detection (after predict). Returns the innovation z - H x_pred.
   Eigen::Vector4d update(const Box& detection);
 

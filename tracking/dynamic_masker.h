@@ -31,6 +31,8 @@ struct DynamicMaskerOptions {
   // (MobileSAM). 1 = every frame.
   int segment_every = 0;
   bool segment_async = true;  // sparse runs on a worker thread (false: inline, reproducible)
+  // The caller feeds the gyro's image motion to SORT (compensateCameraMotion) when true.
+  bool camera_motion_compensation = false;
 };
 
 struct DynamicMaskResult {
@@ -43,6 +45,11 @@ struct DynamicMaskResult {
 class DynamicMasker {
  public:
   DynamicMasker(const DynamicMaskerOptions& options, std::unique_ptr<BoxSegmenter> segmenter);
+  // The camera's image motion since the previous frame (previous pixel -> current pixel), applied
+  // to the tracks before this frame's process()/carry() (SortTracker::compensateCameraMotion).
+  void compensateCameraMotion(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map) {
+    sort_.compensateCameraMotion(map);
+  }
   // Whether the next frame is one the detector should run on.
   bool detectionDue() const { return frames_since_detection_ >= options_.detect_every; }
   // image: CV_8UC1 or CV_8UC3; detections of this frame in its pixels.

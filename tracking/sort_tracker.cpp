@@ -89,6 +89,16 @@ bool SortTracker::reported(const Track& t) const {
   return t.object.hits >= options_.min_hits || frames_ <= options_.min_hits;
 }
 
+void SortTracker::compensateCameraMotion(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map) {
+  for (Track& t : tracks_) {
+    t.filter.warp(map);
+    t.filter_at_last_detection.warp(map);
+    const Eigen::Vector2d c = map({t.last_detection.cx, t.last_detection.cy});
+    t.last_detection.cx = c.x();
+    t.last_detection.cy = c.y();
+  }
+}
+
 std::vector<TrackedObject> SortTracker::predict(double dt) const {
   std::vector<TrackedObject> out;
   for (const Track& t : tracks_) {

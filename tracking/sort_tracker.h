@@ -49,6 +49,11 @@ class SortTracker {
   // dt: frames since the previous call (1 for consecutive frames).
   std::vector<TrackedObject> update(const std::vector<Detection>& detections, double dt = 1.0);
 
+  // Camera-motion compensation before the next update()/predict(): every track's filter is moved
+  // as the image moved since the previous frame (`map`: previous-image pixel -> current-image
+  // pixel, e.g. from the gyro), so association and coasting see only the objects' own motion.
+  void compensateCameraMotion(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map);
+
   // The tracks the last update() reported, their boxes predicted dt frames past it, the state
   // unchanged: what carries the boxes across frames the detector skips (marked not detected).
   std::vector<TrackedObject> predict(double dt) const;

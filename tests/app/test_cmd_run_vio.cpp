@@ -111,6 +111,8 @@ TEST_F(CmdRunVioSim, DetectorMasksRunTheWholeDynamicObjectStage) {
   EXPECT_NE(summary.find("mask: detector"), std::string::npos) << summary;
   EXPECT_NE(summary.find("dynamic_mask_median:"), std::string::npos) << summary;
   EXPECT_NE(summary.find("masked_image_fraction:"), std::string::npos) << summary;
+  // The simulator's exact masks score the detector's: recall and precision of the dynamic pixels.
+  EXPECT_NE(summary.find("dynamic_mask_vs_exact: {recall: "), std::string::npos) << summary;
   // Without a model the detector mask is refused with a message naming the option.
   EXPECT_NE(
       runAdugs("run -q " + dir_->path().string() + " --mask detector --out " + out.path().string(),

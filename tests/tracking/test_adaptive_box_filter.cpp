@@ -74,3 +74,29 @@ TEST(AdaptiveBoxFilter, SizeNeverCollapses) {
 
 }  // namespace
 }  // namespace adugs::tracking
+
+namespace adugs::tracking {
+namespace {
+
+// Camera-motion compensation by hand: a shift moves only the centre; a zoom by 2 about the origin
+// doubles the centre, the size, the velocity and the position/size standard deviations.
+TEST(AdaptiveBoxFilter, WarpMovesTheStateAsTheImageMoved) {
+  AdaptiveBoxFilter f(Box{100, 50, 20, 40});
+  f.predict();
+  f.update(Box{104, 50, 20, 40});  // some velocity
+  const AdaptiveBoxFilter::Vector8d x0 = f.state();
+  const AdaptiveBoxFilter::Matrix8d P0 = f.covariance();
+  AdaptiveBoxFilter shifted = f;
+  shifted.warp([](const Eigen::Vector2d& p) { return Eigen::Vector2d(p + Eigen::Vector2d(30, -5)); });
+  EXPECT_NEAR(shifted.state()(0), x0(0) + 30, 1e-9);
+  EXPECT_NEAR(shifted.state()(1), x0(1) - 5, 1e-9);
+  EXPECT_NEAR((shifted.state().tail<6>() - x0.tail<6>()).norm(), 0, 1e-9);
+  EXPECT_NEAR((shifted.covariance() - P0).norm(), 0, 1e-9);
+  AdaptiveBoxFilter zoomed = f;
+  zoomed.warp([](const Eigen::Vector2d& p) { return Eigen::Vector2d(2 * p); });
+  EXPECT_NEAR((zoomed.state() - 2 * x0).norm(), 0, 1e-9);
+  EXPECT_NEAR((zoomed.covariance() - 4 * P0).norm(), 0, 1e-9 * P0.norm());
+}
+
+}  // namespace
+}  // namespace adugs::tracking
