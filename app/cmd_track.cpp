@@ -31,6 +31,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "app/overlay_video.h"
+#include "tracking/appearance.h"
 #include "tracking/detector_factory.h"
 #include "tracking/dynamic_masker.h"
 #include "tracking/segmenter_factory.h"
@@ -59,6 +60,8 @@ class DetectionFeed {
     if (!a.detections.empty() == !a.video.empty())
       throw CLI::ValidationError("input", "give either --detections det.txt or an INPUT (video, image folder, sequence) with --detector-model");
     if (!a.detections.empty()) {
+      if (a.sort.appearance_weight > 0)
+        throw CLI::ValidationError("--appearance", "the appearance cue needs the images: give an INPUT, not --detections");
       file_ = data::readMotFile(a.detections);
       if (file_.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
       last_frame_ = file_.rbegin()->first;
@@ -100,6 +103,8 @@ class DetectionFeed {
         return false;
       }
       if (detect) *dets = detector_->detect(*image);
+      if (a_.sort.appearance_weight > 0)
+        for (tracking::Detection& d : *dets) d.appearance = tracking::boxHistogram(*image, d.box);
       return true;
     }
     if (frame > last_frame_) return false;
@@ -229,6 +234,10 @@ void registerTrackCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--write-coasting", args->write_coasting,
                 "also write predicted boxes of tracks without a detection in the frame");
+  cmd->add_option("--appearance", args->sort.appearance_weight,
+                  "INPUT: weight of the colour-histogram appearance cue in the association cost (0 = off)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
   cmd->add_flag("--recovery", args->sort.observation_centric_recovery,
                 "OC-SORT's observation-centric re-update when a coasting track is found again");
   tracking::AdaptiveNoiseOptions& r = args->sort.filter;

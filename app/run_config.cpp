@@ -42,6 +42,7 @@ RunConfig loadRunConfig(const std::string& path) {
     d.optional("segment_every", o.segment_every, 0, 1000);
     d.optional("segment_async", o.segment_async);
     d.optional("camera_motion_compensation", o.camera_motion_compensation);
+    d.optional("appearance_weight", o.sort.appearance_weight, 0.0, 10.0);
     if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
     d.finish();
   }

@@ -1,5 +1,7 @@
 #include "tracking/dynamic_masker.h"
 
+#include "tracking/appearance.h"
+
 #include <chrono>
 #include <stdexcept>
 
@@ -33,7 +35,11 @@ DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
                                          const std::vector<Detection>& detections) {
   DynamicMaskResult r;
   auto t0 = std::chrono::steady_clock::now();
-  if (options_.track) {
+  if (options_.track && options_.sort.appearance_weight > 0) {
+    std::vector<Detection> described = detections;
+    for (Detection& d : described) d.appearance = boxHistogram(image, d.box);
+    r.objects = sort_.update(described, frames_since_detection_);
+  } else if (options_.track) {
     // dt: the frames since the last detection, so the filter's velocity stays per frame.
     r.objects = sort_.update(detections, frames_since_detection_);
   } else {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "tracking/appearance.h"
 #include "tracking/hungarian.h"
 
 namespace adugs::tracking {
@@ -36,23 +37,33 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     t.dt_since_detection += dt;
   }
 
-  // Cost 1 - IoU; pairs of different classes can never match (cost above any accepted pair).
+  // Cost 1 - IoU (+ the appearance term); pairs of different classes can never match (cost above
+  // any accepted pair). The IoU gate is checked on the IoU alone.
   const int n_tracks = static_cast<int>(tracks_.size());
   const int n_dets = static_cast<int>(detections.size());
-  Eigen::MatrixXd cost(n_tracks, n_dets);
+  const double w = options_.appearance_weight;
+  Eigen::MatrixXd iou(n_tracks, n_dets), cost(n_tracks, n_dets);
   for (int i = 0; i < n_tracks; ++i)
-    for (int j = 0; j < n_dets; ++j)
-      cost(i, j) = tracks_[i].object.class_id == detections[j].class_id
-                       ? 1.0 - intersectionOverUnion(tracks_[i].object.box, detections[j].box)
-                       : 2.0;
+    for (int j = 0; j < n_dets; ++j) {
+      iou(i, j) = intersectionOverUnion(tracks_[i].object.box, detections[j].box);
+      const bool same_class = tracks_[i].object.class_id == detections[j].class_id;
+      double appearance = 0;
+      if (w > 0 && !tracks_[i].appearance.empty() && !detections[j].appearance.empty())
+        appearance = w * (1.0 - histogramSimilarity(tracks_[i].appearance, detections[j].appearance));
+      cost(i, j) = same_class ? 1.0 - iou(i, j) + appearance : 2.0 + w;
+    }
   const std::vector<int> match = solveAssignment(cost);
 
   std::vector<bool> detection_used(n_dets, false);
   for (int i = 0; i < n_tracks; ++i) {
     TrackedObject& o = tracks_[i].object;
     const int j = match[i];
-    if (j >= 0 && 1.0 - cost(i, j) >= options_.iou_min) {
+    if (j >= 0 && o.class_id == detections[j].class_id && iou(i, j) >= options_.iou_min) {
       fuse(tracks_[i], detections[j].box);
+      if (!detections[j].appearance.empty())
+        tracks_[i].appearance = tracks_[i].appearance.empty()
+                                    ? detections[j].appearance.clone()
+                                    : cv::Mat(0.8 * tracks_[i].appearance + 0.2 * detections[j].appearance);
       o.box = tracks_[i].filter.box();
       o.detected = true;
       ++o.hits;
@@ -76,7 +87,7 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     o.detected = true;
     o.hits = 1;
     const AdaptiveBoxFilter filter(detections[j].box, options_.filter);
-    tracks_.push_back({o, filter, filter, detections[j].box, 0.0});
+    tracks_.push_back({o, filter, filter, detections[j].box, 0.0, detections[j].appearance.clone()});
   }
 
   std::vector<TrackedObject> out;

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "tracking/adaptive_box_filter.h"
 #include "tracking/box.h"
 
@@ -17,6 +19,7 @@ struct Detection {
   Box box;
   int class_id = 0;
   double score = 1.0;
+  cv::Mat appearance = cv::Mat();  // optional boxHistogram (tracking/appearance.h); used when appearance_weight > 0
 };
 
 struct TrackedObject {
@@ -39,6 +42,10 @@ struct SortOptions {
   // the straight line from that detection to the new one, then the new one. The coasting
   // prediction's velocity error (which grows during an occlusion) is not kept.
   bool observation_centric_recovery = false;  // no measured gain yet (doc/results.md)
+  // Appearance cue: association cost (1 - IoU) + appearance_weight (1 - Bhattacharyya coefficient)
+  // between the detection's histogram and the track's (an exponential average, new = 0.2); pairs
+  // still need IoU >= iou_min. 0 = off.
+  double appearance_weight = 0.0;
 };
 
 class SortTracker {
@@ -67,6 +74,7 @@ class SortTracker {
     AdaptiveBoxFilter filter_at_last_detection;  // for the observation-centric re-update
     Box last_detection;
     double dt_since_detection = 0;
+    cv::Mat appearance;  // averaged boxHistogram, empty without
   };
   void fuse(Track& track, const Box& detection);
   bool reported(const Track& track) const;
