@@ -31,6 +31,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "app/overlay_video.h"
+#include "calib/image_source.h"
 #include "tracking/appearance.h"
 #include "tracking/detector_factory.h"
 #include "tracking/dynamic_masker.h"
@@ -69,39 +70,18 @@ class DetectionFeed {
     }
     if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model");
     detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
-    if (fs::is_directory(a.video)) {
-      // A sequence (its camera images) or a plain folder of images, in name order.
-      const fs::path cam = fs::path(a.video) / "mav0" / "cam0" / "data";
-      const fs::path folder = fs::is_directory(cam) ? cam : fs::path(a.video);
-      for (const auto& e : fs::directory_iterator(folder)) {
-        std::string ext = e.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm" || ext == ".ppm")
-          images_.push_back(e.path().string());
-      }
-      std::sort(images_.begin(), images_.end());
-      if (images_.empty()) throw data::InputError(folder.string(), 0, "", "no images (.png, .jpg, .bmp, .pgm) in this folder");
-      return;
-    }
-    if (!video_.open(a.video) || !video_.isOpened())
-      throw data::InputError(a.video, 0, "", "OpenCV cannot open this video");
+    // A sequence's camera images, an ASL camera folder, a folder of images (name order) or a video.
+    const fs::path cam = fs::path(a.video) / "mav0" / "cam0";
+    images_ = std::make_unique<calib::ImageSource>(fs::is_directory(cam) ? cam.string() : a.video);
   }
 
   // detect: whether this frame's detections are wanted (--detect-every skips the others).
   bool next(int frame, bool detect, std::vector<tracking::Detection>* dets, cv::Mat* image) {
     dets->clear();
     if (detector_) {
-      if (!images_.empty()) {
-        if (frame > static_cast<int>(images_.size())) return false;
-        const std::string& path = images_[static_cast<size_t>(frame - 1)];
-        *image = cv::imread(path, cv::IMREAD_UNCHANGED);
-        if (image->empty() || (image->depth() != CV_8U && image->depth() != CV_16U))
-          throw data::InputError(path, 0, "", "unreadable image");
-        if (image->depth() == CV_16U) image->convertTo(*image, CV_8U, 1.0 / 256);  // TUM-VI's 16-bit PNGs
-        if (image->channels() == 4) cv::cvtColor(*image, *image, cv::COLOR_BGRA2BGR);
-      } else if (!video_.read(*image) || image->empty()) {
-        return false;
-      }
+      calib::ImageFrame f;
+      if (!images_->next(f)) return false;
+      *image = f.image;
       if (detect) *dets = detector_->detect(*image);
       if (a_.sort.appearance_weight > 0)
         for (tracking::Detection& d : *dets) d.appearance = tracking::boxHistogram(*image, d.box);
@@ -122,8 +102,7 @@ class DetectionFeed {
   std::map<int, std::vector<data::MotBox>> file_;
   int last_frame_ = 0;
   std::unique_ptr<tracking::Detector> detector_;
-  cv::VideoCapture video_;
-  std::vector<std::string> images_;  // folder input, in name order
+  std::unique_ptr<calib::ImageSource> images_;  // INPUT
 };
 
 void runTrack(const TrackArgs& a) {

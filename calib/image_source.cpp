@@ -21,17 +21,22 @@ bool isImageFile(const fs::path& p) {
   return std::any_of(std::begin(kExts), std::end(kExts), [&](const char* e) { return ext == e; });
 }
 
-cv::Mat toGray(const cv::Mat& image) {
-  if (image.channels() == 1 && image.depth() == CV_8U) return image;
-  cv::Mat gray = image;
-  if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-  else if (image.channels() == 4) cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
-  if (gray.depth() != CV_8U) {
+// 8 bits, BGR or grey: alpha dropped, other depths stretched from their min-max range.
+cv::Mat toEightBit(const cv::Mat& image) {
+  cv::Mat out = image;
+  if (image.channels() == 4) cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
+  if (out.depth() != CV_8U) {
     double lo, hi;
-    cv::minMaxLoc(gray, &lo, &hi);
-    gray.convertTo(gray, CV_8U, hi > lo ? 255.0 / (hi - lo) : 1.0, hi > lo ? -lo * 255.0 / (hi - lo) : 0);
+    cv::minMaxLoc(out.reshape(1), &lo, &hi);
+    out.convertTo(out, CV_8U, hi > lo ? 255.0 / (hi - lo) : 1.0, hi > lo ? -lo * 255.0 / (hi - lo) : 0);
   }
-  return gray;
+  return out;
+}
+
+void setImages(const cv::Mat& read, ImageFrame& frame) {
+  frame.image = toEightBit(read);
+  frame.gray = frame.image;
+  if (frame.image.channels() == 3) cv::cvtColor(frame.image, frame.gray, cv::COLOR_BGR2GRAY);
 }
 
 }  // namespace
@@ -88,7 +93,7 @@ bool ImageSource::next(ImageFrame& frame) {
       if (n % every_ != 0) continue;
       frame.t_ns = static_cast<int64_t>(ms * 1e6);
       frame.name = path_ + "#" + std::to_string(n);
-      frame.gray = toGray(image);
+      setImages(image, frame);
       return true;
     }
   }
@@ -99,7 +104,7 @@ bool ImageSource::next(ImageFrame& frame) {
     frame.name = files_[i].second;
     cv::Mat image = cv::imread(frame.name, cv::IMREAD_UNCHANGED);
     if (image.empty()) throw data::InputError(frame.name, 0, "", "cannot read this image");
-    frame.gray = toGray(image);
+    setImages(image, frame);
     return true;
   }
   return false;

@@ -4,7 +4,8 @@
 //   - a folder of images (png, jpg, jpeg, pgm, ppm, bmp, tif, tiff; sorted by name; a name that
 //     is all digits is taken as the timestamp in ns, otherwise frames are 1 s apart),
 //   - a video file (any format OpenCV reads; timestamps from the stream position).
-// Frames come out as 8-bit gray. Missing or unreadable inputs are InputError.
+// Frames come out as 8-bit gray, and as read in 8 bits (BGR or grey, for detectors). Missing or
+// unreadable inputs are InputError.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -19,6 +20,7 @@ struct ImageFrame {
   int64_t t_ns = 0;
   std::string name;  // file path, or "video.mp4#frame"
   cv::Mat gray;
+  cv::Mat image;  // 8-bit BGR or grey (alpha dropped, 16 bits scaled as for gray)
 };
 
 class ImageSource {

@@ -49,26 +49,13 @@ SimSprite::SimSprite(const cv::Mat& bgra) {
   }
 }
 
-bool SimSprite::opaque(float a, float b) const {
-  // Texel centres at i + 0.5; outside the outer centres the border texel holds.
-  const float x = std::clamp(a * static_cast<float>(alpha_.cols) - 0.5f, 0.0f, static_cast<float>(alpha_.cols - 1));
-  const float y = std::clamp(b * static_cast<float>(alpha_.rows) - 0.5f, 0.0f, static_cast<float>(alpha_.rows - 1));
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const int x1 = std::min(x0 + 1, alpha_.cols - 1), y1 = std::min(y0 + 1, alpha_.rows - 1);
-  const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
-  const float* r0 = alpha_.ptr<float>(y0);
-  const float* r1 = alpha_.ptr<float>(y1);
-  const float top = r0[x0] + ax * (r0[x1] - r0[x0]);
-  const float bottom = r1[x0] + ax * (r1[x1] - r1[x0]);
-  return top + ay * (bottom - top) >= 0.5f;
-}
+namespace {
 
-float SimSprite::sample(float s, float t, float lod) const {
-  const int lvl = std::clamp(static_cast<int>(lod + 0.5f), 0, static_cast<int>(mips_.size()) - 1);
-  const cv::Mat& m = mips_[static_cast<size_t>(lvl)];
-  const float scale = static_cast<float>(m.cols) / static_cast<float>(mips_[0].cols);
-  const float x = std::clamp(s * scale - 0.5f, 0.0f, static_cast<float>(m.cols - 1));
-  const float y = std::clamp(t * scale - 0.5f, 0.0f, static_cast<float>(m.rows - 1));
+// Bilinear lookup of a CV_32FC1 image at texel coordinates (x, y) (centres at integers), clamped
+// to the border texels.
+float bilinearClamped(const cv::Mat& m, float x, float y) {
+  x = std::clamp(x, 0.0f, static_cast<float>(m.cols - 1));
+  y = std::clamp(y, 0.0f, static_cast<float>(m.rows - 1));
   const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
   const int x1 = std::min(x0 + 1, m.cols - 1), y1 = std::min(y0 + 1, m.rows - 1);
   const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
@@ -77,6 +64,21 @@ float SimSprite::sample(float s, float t, float lod) const {
   const float top = r0[x0] + ax * (r0[x1] - r0[x0]);
   const float bottom = r1[x0] + ax * (r1[x1] - r1[x0]);
   return top + ay * (bottom - top);
+}
+
+}  // namespace
+
+bool SimSprite::opaque(float a, float b) const {
+  // Texel centres at i + 0.5.
+  return bilinearClamped(alpha_, a * static_cast<float>(alpha_.cols) - 0.5f, b * static_cast<float>(alpha_.rows) - 0.5f) >=
+         0.5f;
+}
+
+float SimSprite::sample(float s, float t, float lod) const {
+  const int lvl = std::clamp(static_cast<int>(lod + 0.5f), 0, static_cast<int>(mips_.size()) - 1);
+  const cv::Mat& m = mips_[static_cast<size_t>(lvl)];
+  const float scale = static_cast<float>(m.cols) / static_cast<float>(mips_[0].cols);
+  return bilinearClamped(m, s * scale - 0.5f, t * scale - 0.5f);
 }
 
 SimWalkerSet loadWalkerSet(const std::string& dir) {

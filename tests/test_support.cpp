@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <random>
 #include <sys/wait.h>
 
@@ -54,6 +56,22 @@ int writeTestBag(const std::string& args, std::string* output) {
   return runCommand(std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
                         "/tests/data/scripts/write_test_bag.py " + args,
                     output);
+}
+
+const fs::path& pythonGenerated(const std::string& script) {
+  static std::map<std::string, std::unique_ptr<TempDir>> done;
+  static const fs::path none;
+  if (const auto it = done.find(script); it != done.end()) return it->second ? it->second->path() : none;
+  auto dir = std::make_unique<TempDir>("adugs_generated");
+  std::string log;
+  const std::string command = "/usr/bin/python3 " + std::string(ADUGS_SOURCE_DIR) + "/" + script + " " + dir->path().string();
+  if (runCommand(command, &log) != 0) {
+    ADD_FAILURE() << script << " failed (needs /usr/bin/python3 with Debian's python3-torch and python3-onnx: run "
+                  << "scripts/setup.sh):\n" << log;
+    done[script] = nullptr;
+    return none;
+  }
+  return (done[script] = std::move(dir))->path();
 }
 
 int runCommand(const std::string& command, std::string* output) {

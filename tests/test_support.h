@@ -35,6 +35,10 @@ void writeText(const std::filesystem::path& file, const std::string& text);
 
 // Runs a shell command; returns its exit code; stdout+stderr go to *output.
 int runCommand(const std::string& command, std::string* output);
+// The folder that `/usr/bin/python3 ADUGS_SOURCE_DIR/script OUT_DIR` filled, run once per test
+// process and script (test models generated with Debian's python3-torch / python3-onnx); an
+// empty path after an ADD_FAILURE naming the script when it failed.
+const std::filesystem::path& pythonGenerated(const std::string& script);
 // Runs the built `adugs` binary with args; returns exit code; stdout+stderr go to *output.
 int runAdugs(const std::string& args, std::string* output);
 // Writes a ROS1 bag from an ASL folder with Debian's python3-rosbag

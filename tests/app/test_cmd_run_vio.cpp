@@ -160,16 +160,14 @@ TEST_F(CmdRunVioSim, OverlayVideoShowsTheMaskAndFeatures) {
 // value of the image centre, which the simulator's grey images make about 0.5; the SAM-like
 // decoder masks the bright pixels inside the box.
 TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
-  TempDir models;
-  const std::string scripts = std::string(ADUGS_SOURCE_DIR) + "/tests/tracking/models/";
-  for (const char* script : {"make_ultralytics_like_models.py", "make_sam_like_torchscript.py"})
-    ASSERT_EQ(std::system(("/usr/bin/python3 " + scripts + script + " " + models.path().string()).c_str()), 0)
-        << script << " failed (Debian python3-torch and python3-onnx: scripts/setup.sh)";
+  const std::filesystem::path& ultralytics = pythonGenerated("tests/tracking/models/make_ultralytics_like_models.py");
+  const std::filesystem::path& sam = pythonGenerated("tests/tracking/models/make_sam_like_torchscript.py");
+  ASSERT_FALSE(ultralytics.empty() || sam.empty());
   TempDir out;
   std::string log;
   ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
-                         (models / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
-                         (models / "encoder.pt").string() + " --sam-decoder " + (models / "decoder.pt").string() +
+                         (ultralytics / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
+                         (sam / "encoder.pt").string() + " --sam-decoder " + (sam / "decoder.pt").string() +
                          " --out " + out.path().string(),
                      &log),
             0)
@@ -184,7 +182,7 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   // The run config's dynamic: map: no SORT (the ablation) runs; bad keys and values are named.
   writeText(out / "no_sort.yaml", "dynamic:\n  tracker: none\n  dilate_radius_px: 4\n");
   ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
-                         (models / "detect.torchscript").string() + " --segmenter box --config " +
+                         (ultralytics / "detect.torchscript").string() + " --segmenter box --config " +
                          (out / "no_sort.yaml").string() + " --out " + (out / "no_sort").string(),
                      &log),
             0)
@@ -197,7 +195,7 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
                                  std::string("dynamic:\n  noize: fixed\n"), std::string("dynamic:\n  noise: fxed\n")}) {
     writeText(out / "bad.yaml", bad);
     EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
-                           (models / "detect.torchscript").string() + " --config " + (out / "bad.yaml").string() +
+                           (ultralytics / "detect.torchscript").string() + " --config " + (out / "bad.yaml").string() +
                            " --out " + (out / "bad").string(),
                        &log),
               2)
@@ -206,9 +204,9 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   }
   // A decoder with the wrong interface stops the run before any frame, naming the file.
   EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
-                         (models / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
-                         (models / "encoder.pt").string() + " --sam-decoder " +
-                         (models / "decoder_two_inputs.pt").string() + " --out " + out.path().string(),
+                         (ultralytics / "detect.torchscript").string() + " --segmenter mobilesam --sam-encoder " +
+                         (sam / "encoder.pt").string() + " --sam-decoder " +
+                         (sam / "decoder_two_inputs.pt").string() + " --out " + out.path().string(),
                      &log),
             2)
       << log;

@@ -6,7 +6,6 @@
 // was run on the real MobileSAM architecture: doc/results.md.)
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -28,23 +27,7 @@ namespace fs = std::filesystem;
 constexpr int kHeight = 480, kWidth = 640;
 
 // Writes the SAM-like modules once per test run; an empty path after a FAIL.
-const fs::path& samLikeModels() {
-  static test::TempDir dir("adugs_sam_like");
-  static bool generated = false;
-  if (!generated) {
-    const std::string command = std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
-                                "/tests/tracking/models/make_sam_like_torchscript.py " + dir.path().string();
-    if (std::system(command.c_str()) != 0) {
-      ADD_FAILURE() << "generating the SAM-like TorchScript modules failed (needs /usr/bin/python3 with "
-                       "Debian's python3-torch: run scripts/setup.sh): "
-                    << command;
-      static const fs::path none;
-      return none;
-    }
-    generated = true;
-  }
-  return dir.path();
-}
+const fs::path& samLikeModels() { return test::pythonGenerated("tests/tracking/models/make_sam_like_torchscript.py"); }
 
 #define REQUIRE_MODELS()                   \
   const fs::path models = samLikeModels(); \

@@ -32,24 +32,7 @@ constexpr int kAnchors = 16 * 20 + 8 * 10 + 4 * 5;  // strides 8, 16, 32
 const std::vector<std::string> kExports = {"export_opset12.onnx", "export_opset13.onnx"};
 
 // Generated once per test process (torch export of both opsets plus the reference: ~2 s).
-const fs::path& ultralyticsLikeExports() {
-  static test::TempDir dir("adugs_ultralytics_export");
-  static bool generated = false;
-  if (!generated) {
-    const std::string command = std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
-                                "/tests/tracking/models/make_ultralytics_like_onnx_export.py " +
-                                dir.path().string();
-    if (std::system(command.c_str()) != 0) {
-      ADD_FAILURE() << "exporting the ultralytics-like model failed (needs /usr/bin/python3 with "
-                       "Debian's python3-torch and python3-onnx: run scripts/setup.sh): "
-                    << command;
-      static const fs::path none;
-      return none;
-    }
-    generated = true;
-  }
-  return dir.path();
-}
+const fs::path& ultralyticsLikeExports() { return test::pythonGenerated("tests/tracking/models/make_ultralytics_like_onnx_export.py"); }
 
 #define REQUIRE_EXPORTS()                            \
   const fs::path exports = ultralyticsLikeExports(); \

@@ -6,7 +6,6 @@
 // overlapping person for NMS, a non-dynamic class).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <opencv2/imgproc.hpp>
@@ -24,23 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path& ultralyticsLikeModels() {
-  static test::TempDir dir("adugs_ultralytics_like");
-  static bool generated = false;
-  if (!generated) {
-    const std::string command = std::string("/usr/bin/python3 ") + ADUGS_SOURCE_DIR +
-                                "/tests/tracking/models/make_ultralytics_like_models.py " + dir.path().string();
-    if (std::system(command.c_str()) != 0) {
-      ADD_FAILURE() << "generating the ultralytics-like models failed (needs /usr/bin/python3 with Debian's "
-                       "python3-torch and python3-onnx: run scripts/setup.sh): "
-                    << command;
-      static const fs::path none;
-      return none;
-    }
-    generated = true;
-  }
-  return dir.path();
-}
+const fs::path& ultralyticsLikeModels() { return test::pythonGenerated("tests/tracking/models/make_ultralytics_like_models.py"); }
 
 #define REQUIRE_MODELS()                            \
   const fs::path models = ultralyticsLikeModels(); \
