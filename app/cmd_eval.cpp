@@ -15,8 +15,8 @@
 #include "data/atomic_file.h"
 #include "data/input_error.h"
 #include "data/trajectory_io.h"
-#include "vio/trajectory_eval.h"
-#include "vio/trajectory_plot.h"
+#include "vio/eval/trajectory_eval.h"
+#include "vio/eval/trajectory_plot.h"
 
 namespace adugs::app {
 namespace {

@@ -20,7 +20,7 @@
 #include "data/dataset_preset.h"
 #include "data/input_error.h"
 #include "data/trajectory_io.h"
-#include "vio/imu_dead_reckoning.h"
+#include "vio/imu/imu_dead_reckoning.h"
 
 namespace adugs::app {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
 // The configuration of `adugs run --config FILE` (data/config/*.yaml): one map per stage,
-//   tracker:   vio/feature_tracker_options.h keys
-//   estimator: vio/estimator_options.h keys (static_init:, init: nested)
+//   tracker:   vio/frontend/feature_tracker_options.h keys
+//   estimator: vio/estimator/estimator_options.h keys (static_init:, init: nested)
 //   dynamic:   the dynamic-object stage of --mask detector (detect_every, tracker: sort | none,
 //              noise: adaptive | fixed, SORT's max_age / min_hits / iou_min, the adaptive noise's
 //              lambda / beta_pos / beta_size / window, erode_radius_px / dilate_radius_px,
@@ -15,8 +15,8 @@
 
 #include "data/dataset_preset.h"
 #include "tracking/dynamic_masker.h"
-#include "vio/estimator_options.h"
-#include "vio/feature_tracker_options.h"
+#include "vio/estimator/estimator_options.h"
+#include "vio/frontend/feature_tracker_options.h"
 
 namespace adugs::app {
 

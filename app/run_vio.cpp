@@ -15,7 +15,7 @@
 #include "app/vio_frontend_stage.h"
 #include "data/camera_model.h"
 #include "data/trajectory_io.h"
-#include "vio/sliding_window_estimator.h"
+#include "vio/estimator/sliding_window_estimator.h"
 
 namespace adugs::app {
 namespace {

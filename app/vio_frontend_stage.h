@@ -17,8 +17,8 @@
 #include "app/pipeline_channel.h"
 #include "data/camera_model.h"
 #include "data/sequence_source.h"
-#include "vio/feature_tracker.h"
-#include "vio/gyro_rotation_predictor.h"
+#include "vio/frontend/feature_tracker.h"
+#include "vio/frontend/gyro_rotation_predictor.h"
 
 namespace adugs::tracking {
 class Detector;

@@ -13,7 +13,7 @@
 
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/trajectory_eval.h"
+#include "vio/eval/trajectory_eval.h"
 
 namespace adugs {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "data/euroc_sensor_yaml.h"
 #include "tests/test_support.h"
-#include "vio/feature_tracker.h"
+#include "vio/frontend/feature_tracker.h"
 
 namespace {
 

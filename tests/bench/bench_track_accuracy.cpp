@@ -27,8 +27,8 @@
 #include "data/sim_renderer.h"
 #include "data/sim_scene.h"
 #include "data/trajectory_io.h"
-#include "vio/feature_tracker.h"
-#include "vio/sliding_window_estimator.h"
+#include "vio/frontend/feature_tracker.h"
+#include "vio/estimator/sliding_window_estimator.h"
 
 using namespace adugs;
 

@@ -18,11 +18,11 @@
 #include "data/sim_imu.h"
 #include "data/sim_scene.h"
 #include "data/sim_trajectory.h"
-#include "vio/imu_factor.h"
-#include "vio/marginalization.h"
-#include "vio/pose_manifold.h"
-#include "vio/reprojection_factor.h"
-#include "vio/so3.h"
+#include "vio/estimator/imu_factor.h"
+#include "vio/estimator/marginalization.h"
+#include "vio/estimator/pose_manifold.h"
+#include "vio/estimator/reprojection_factor.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "data/sim_imu.h"
 #include "data/sim_trajectory.h"
-#include "vio/visual_inertial_initializer.h"
+#include "vio/init/visual_inertial_initializer.h"
 
 namespace adugs::vio::test {
 

@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
-#include "vio/anchor_patch.h"
+#include "vio/frontend/anchor_patch.h"
 
 namespace adugs::vio {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "tests/test_support.h"
-#include "vio/anms.h"
+#include "vio/frontend/anms.h"
 
 namespace adugs::vio {
 namespace {

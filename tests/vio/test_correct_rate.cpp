@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "vio/correct_rate.h"
-#include "vio/trajectory_eval.h"
+#include "vio/eval/correct_rate.h"
+#include "vio/eval/trajectory_eval.h"
 
 namespace adugs::vio {
 namespace {

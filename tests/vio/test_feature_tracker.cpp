@@ -15,7 +15,7 @@
 #include "data/sim_sequence.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/feature_tracker.h"
+#include "vio/frontend/feature_tracker.h"
 
 namespace adugs::vio {
 namespace {

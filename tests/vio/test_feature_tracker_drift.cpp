@@ -2,7 +2,7 @@
 // feature's true 3-D point taken from the rendered depth where it was first detected. What the
 // sliding window feels is how a feature's error changes over the frames it spans (a constant
 // offset only moves the landmark), so that is what is compared, with and without the anchor
-// alignment (vio/anchor_patch.h). bench_track_accuracy measures the same on whole sequences.
+// alignment (vio/frontend/anchor_patch.h). bench_track_accuracy measures the same on whole sequences.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include "data/sim_renderer.h"
 #include "data/types.h"
 #include "data/sim_scene.h"
-#include "vio/feature_tracker.h"
+#include "vio/frontend/feature_tracker.h"
 
 namespace adugs::vio {
 namespace {

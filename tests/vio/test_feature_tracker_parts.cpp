@@ -8,10 +8,10 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "vio/feature_detector.h"
-#include "vio/feature_overlay.h"
-#include "vio/feature_ransac.h"
-#include "vio/feature_tracker_options.h"
+#include "vio/frontend/feature_detector.h"
+#include "vio/frontend/feature_overlay.h"
+#include "vio/frontend/feature_ransac.h"
+#include "vio/frontend/feature_tracker_options.h"
 
 namespace adugs::vio {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "vio/imu_dead_reckoning.h"
+#include "vio/imu/imu_dead_reckoning.h"
 
 namespace adugs::vio {
 namespace {

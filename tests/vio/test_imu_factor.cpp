@@ -1,6 +1,6 @@
 // ImuFactor: whitened residual at truth, analytic vs numeric Jacobians away from truth, and a
 // Ceres solve that recovers the end state from the start state and the IMU alone.
-#include "vio/imu_factor.h"
+#include "vio/estimator/imu_factor.h"
 
 #include <array>
 #include <memory>
@@ -13,8 +13,8 @@
 #include "data/sim_imu.h"
 #include "data/sim_trajectory.h"
 #include "tests/vio/jacobian_check.h"
-#include "vio/pose_manifold.h"
-#include "vio/so3.h"
+#include "vio/estimator/pose_manifold.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "vio/imu_integrator.h"
+#include "vio/imu/imu_integrator.h"
 
 namespace adugs::vio {
 namespace {

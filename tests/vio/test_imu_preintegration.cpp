@@ -6,8 +6,8 @@
 
 #include "data/sim_imu.h"
 #include "data/sim_trajectory.h"
-#include "vio/imu_preintegration.h"
-#include "vio/so3.h"
+#include "vio/imu/imu_preintegration.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

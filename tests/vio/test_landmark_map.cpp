@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
 #include "tests/vio/jacobian_check.h"
-#include "vio/landmark_map.h"
-#include "vio/scalar_prior_factor.h"
-#include "vio/zero_velocity_factor.h"
+#include "vio/estimator/landmark_map.h"
+#include "vio/estimator/scalar_prior_factor.h"
+#include "vio/estimator/zero_velocity_factor.h"
 
 namespace adugs::vio {
 namespace {

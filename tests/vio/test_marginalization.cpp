@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "tests/vio/jacobian_check.h"
-#include "vio/marginalization.h"
-#include "vio/pose_manifold.h"
-#include "vio/so3.h"
+#include "vio/estimator/marginalization.h"
+#include "vio/estimator/pose_manifold.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

@@ -1,9 +1,9 @@
 // PoseManifold: Plus/Minus are inverse, and the Jacobians match finite differences.
-#include "vio/pose_manifold.h"
+#include "vio/estimator/pose_manifold.h"
 
 #include <gtest/gtest.h>
 
-#include "vio/so3.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

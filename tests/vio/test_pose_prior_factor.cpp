@@ -1,12 +1,12 @@
-// The pose prior (vio/pose_prior_factor.h): hand-worked residual, analytic vs numeric Jacobian.
+// The pose prior (vio/estimator/pose_prior_factor.h): hand-worked residual, analytic vs numeric Jacobian.
 #include <gtest/gtest.h>
 
 #include <array>
 
 #include "tests/vio/jacobian_check.h"
-#include "vio/pose_manifold.h"
-#include "vio/pose_prior_factor.h"
-#include "vio/so3.h"
+#include "vio/estimator/pose_manifold.h"
+#include "vio/estimator/pose_prior_factor.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

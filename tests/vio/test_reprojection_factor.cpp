@@ -1,6 +1,6 @@
 // Inverse-depth reprojection factors: zero at truth, analytic vs numeric Jacobians (pose_i,
 // pose_j, extrinsic, inverse depth, time offset), and a small inverse-depth solve.
-#include "vio/reprojection_factor.h"
+#include "vio/estimator/reprojection_factor.h"
 
 #include <array>
 #include <random>
@@ -12,8 +12,8 @@
 
 #include "data/sim_scene.h"
 #include "tests/vio/jacobian_check.h"
-#include "vio/pose_manifold.h"
-#include "vio/so3.h"
+#include "vio/estimator/pose_manifold.h"
+#include "vio/imu/so3.h"
 
 namespace adugs::vio {
 namespace {

@@ -13,9 +13,9 @@
 #include "data/sim_sequence.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/feature_tracker.h"
-#include "vio/sliding_window_estimator.h"
-#include "vio/trajectory_eval.h"
+#include "vio/frontend/feature_tracker.h"
+#include "vio/estimator/sliding_window_estimator.h"
+#include "vio/eval/trajectory_eval.h"
 
 namespace adugs::vio {
 namespace {

@@ -1,5 +1,5 @@
 // SO(3) helpers: exp/log round trip and the right Jacobian against finite differences.
-#include "vio/so3.h"
+#include "vio/imu/so3.h"
 
 #include <cmath>
 

@@ -12,7 +12,7 @@
 #include "data/sim_trajectory.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/static_initializer.h"
+#include "vio/init/static_initializer.h"
 
 namespace adugs::vio {
 namespace {

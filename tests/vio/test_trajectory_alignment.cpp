@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "vio/trajectory_alignment.h"
-#include "vio/trajectory_metrics.h"
+#include "vio/eval/trajectory_alignment.h"
+#include "vio/eval/trajectory_metrics.h"
 
 namespace adugs::vio {
 namespace {

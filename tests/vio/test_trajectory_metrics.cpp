@@ -4,8 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "vio/trajectory_eval.h"
-#include "vio/trajectory_metrics.h"
+#include "vio/eval/trajectory_eval.h"
+#include "vio/eval/trajectory_metrics.h"
 
 namespace adugs::vio {
 namespace {

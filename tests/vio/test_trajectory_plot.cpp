@@ -8,7 +8,7 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "vio/trajectory_plot.h"
+#include "vio/eval/trajectory_plot.h"
 
 namespace adugs::vio {
 namespace {

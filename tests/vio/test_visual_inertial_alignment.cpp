@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "init_test_scene.h"
-#include "vio/visual_inertial_alignment.h"
+#include "vio/init/visual_inertial_alignment.h"
 
 namespace adugs::vio {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "init_test_scene.h"
-#include "vio/visual_inertial_initializer.h"
+#include "vio/init/visual_inertial_initializer.h"
 
 namespace adugs::vio {
 namespace {

@@ -10,7 +10,7 @@
 #include "data/sim_hybrid.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
-#include "vio/visual_inertial_initializer.h"
+#include "vio/init/visual_inertial_initializer.h"
 
 namespace adugs::vio {
 namespace {

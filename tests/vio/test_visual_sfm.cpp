@@ -6,9 +6,9 @@
 #include <cstdio>
 
 #include "init_test_scene.h"
-#include "vio/sfm_bundle_adjustment.h"
-#include "vio/sfm_geometry.h"
-#include "vio/visual_sfm.h"
+#include "vio/init/sfm_bundle_adjustment.h"
+#include "vio/init/sfm_geometry.h"
+#include "vio/init/visual_sfm.h"
 
 namespace adugs::vio {
 namespace {

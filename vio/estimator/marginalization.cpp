@@ -1,0 +1,309 @@
+#include "vio/estimator/marginalization.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "vio/estimator/pose_manifold.h"
+#include "vio/imu/so3.h"
+
+namespace adugs::vio {
+
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+namespace {
+
+int tangentSizeOf(const ceres::Manifold* m, int size) { return m ? m->TangentSize() : size; }
+
+// Ambient Jacobian (rows x size) -> tangent Jacobian (rows x tangent).
+Eigen::MatrixXd toTangent(const RowMajorMatrix& J, const ceres::Manifold* m, const double* x) {
+  if (!m) return J;
+  RowMajorMatrix plus(m->AmbientSize(), m->TangentSize());
+  if (!m->PlusJacobian(x, plus.data())) throw std::invalid_argument("PlusJacobian failed");
+  return J * plus;
+}
+
+// Symmetric pseudo-inverse with eigenvalues below `floor` dropped.
+Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double floor) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+  const Eigen::VectorXd s =
+      es.eigenvalues().unaryExpr([&](double v) { return v > floor ? 1.0 / v : 0.0; });
+  return (es.eigenvectors() * s.asDiagonal()).lazyProduct(es.eigenvectors().transpose());
+}
+
+}  // namespace
+
+void Marginalizer::setManifold(const double* block, const ceres::Manifold* manifold) {
+  for (auto& [b, m] : manifolds_) {
+    if (b == block) {
+      m = manifold;
+      return;
+    }
+  }
+  manifolds_.emplace_back(block, manifold);
+}
+
+const ceres::Manifold* Marginalizer::manifoldOf(const double* block) const {
+  for (const auto& [b, m] : manifolds_)
+    if (b == block) return m;
+  return nullptr;
+}
+
+void Marginalizer::addResidualBlock(const ceres::CostFunction* cost,
+                                    const ceres::LossFunction* loss, std::vector<double*> blocks) {
+  if (!cost || blocks.size() != cost->parameter_block_sizes().size())
+    throw std::invalid_argument("Marginalizer: cost function and blocks do not match");
+  residuals_.push_back({cost, loss, std::move(blocks)});
+}
+
+std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
+    const std::vector<const double*>& marginalized, double eigenvalue_floor) const {
+  const std::unordered_set<const double*> is_marginalized(marginalized.begin(), marginalized.end());
+  // Blocks in order of first appearance: marginalised ones first, then kept.
+  struct Block {
+    double* address;
+    int size, tangent, offset;
+    const ceres::Manifold* manifold;
+  };
+  std::vector<Block> marg, kept;
+  std::unordered_map<const double*, std::pair<bool, size_t>> where;  // marginalised?, index
+  const std::unordered_set<const double*> is_constant(constant_.begin(), constant_.end());
+  std::vector<const Residual*> used;
+  for (const Residual& res : residuals_) {
+    if (std::none_of(res.blocks.begin(), res.blocks.end(),
+                     [&](const double* b) { return is_marginalized.count(b) > 0; }))
+      continue;
+    used.push_back(&res);
+    for (size_t k = 0; k < res.blocks.size(); ++k) {
+      double* b = res.blocks[k];
+      if (where.count(b) || is_constant.count(b)) continue;
+      const bool m = is_marginalized.count(b) > 0;
+      auto& list = m ? marg : kept;
+      const int size = res.cost->parameter_block_sizes()[k];
+      const ceres::Manifold* manifold = manifoldOf(b);
+      where[b] = {m, list.size()};
+      list.push_back({b, size, tangentSizeOf(manifold, size), 0, manifold});
+    }
+  }
+  if (kept.empty()) throw std::invalid_argument("Marginalizer: no kept block");
+  int n_marg = 0, n_total = 0;
+  for (Block& b : marg) b.offset = n_marg, n_marg += b.tangent;
+  n_total = n_marg;
+  for (Block& b : kept) b.offset = n_total, n_total += b.tangent;
+
+  // Normal equations of the linearised residuals over [marginalised | kept]; constant blocks
+  // take no part (null Jacobian pointers: the cost skips them).
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_total, n_total);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(n_total);
+  Eigen::VectorXd r;
+  std::vector<RowMajorMatrix> J_amb;
+  std::vector<Eigen::MatrixXd> J;
+  std::vector<double*> jac_ptrs;
+  std::vector<const Block*> blocks;
+  for (const Residual* res : used) {
+    const int n_res = res->cost->num_residuals();
+    const std::vector<int32_t>& sizes = res->cost->parameter_block_sizes();
+    const size_t n_blocks = sizes.size();
+    r.resize(n_res);
+    J_amb.resize(n_blocks);
+    J.resize(n_blocks);
+    jac_ptrs.assign(n_blocks, nullptr);
+    blocks.assign(n_blocks, nullptr);
+    for (size_t k = 0; k < n_blocks; ++k) {
+      const auto it = where.find(res->blocks[k]);
+      if (it == where.end()) continue;  // constant
+      blocks[k] = it->second.first ? &marg[it->second.second] : &kept[it->second.second];
+      J_amb[k].resize(n_res, sizes[k]);
+      jac_ptrs[k] = J_amb[k].data();
+    }
+    if (!res->cost->Evaluate(res->blocks.data(), r.data(), jac_ptrs.data()))
+      throw std::invalid_argument("Marginalizer: a cost function failed to evaluate");
+    for (size_t k = 0; k < n_blocks; ++k)
+      if (blocks[k]) J[k] = toTangent(J_amb[k], blocks[k]->manifold, res->blocks[k]);
+
+    if (res->loss) {
+      // Ceres' Corrector: scale r and J so that the Gauss-Newton model matches rho's curvature.
+      const double sq_norm = r.squaredNorm();
+      double rho[3];
+      res->loss->Evaluate(sq_norm, rho);
+      const double sqrt_rho1 = std::sqrt(rho[1]);
+      double residual_scaling = sqrt_rho1, alpha_sq_norm = 0.0;
+      if (sq_norm > 0.0 && rho[2] > 0.0) {
+        const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * sq_norm * rho[2] / rho[1]);
+        residual_scaling = sqrt_rho1 / (1.0 - alpha);
+        alpha_sq_norm = alpha / sq_norm;
+      }
+      for (size_t k = 0; k < n_blocks; ++k)
+        if (blocks[k]) J[k] = sqrt_rho1 * (J[k] - alpha_sq_norm * r * (r.transpose() * J[k]));
+      r *= residual_scaling;
+    }
+    for (size_t a = 0; a < n_blocks; ++a) {
+      if (!blocks[a]) continue;
+      const Block& ba = *blocks[a];
+      g.segment(ba.offset, ba.tangent).noalias() += J[a].transpose() * r;
+      for (size_t b = 0; b < n_blocks; ++b) {
+        if (!blocks[b]) continue;
+        const Block& bb = *blocks[b];
+        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent).noalias() += J[a].transpose() * J[b];
+      }
+    }
+  }
+
+  // Schur complement in two steps. Marginalised blocks that do not meet one another (the
+  // landmarks hosted in the oldest frame: each only meets poses) go first, each through its own
+  // tiny inverse and only where it couples; a dense pseudo-inverse then handles the rest (the
+  // frame's pose and speed-bias). Same result as one dense pseudo-inverse of all of H_mm, which
+  // cost ~11 ms (eigen-decomposition of ~200 x 200) per keyframe on EuRoC-like windows.
+  std::vector<const Block*> by_size;
+  for (const Block& b : marg) by_size.push_back(&b);
+  std::stable_sort(by_size.begin(), by_size.end(),
+                   [](const Block* a, const Block* b) { return a->tangent < b->tangent; });
+  std::vector<const Block*> independent, dense;
+  for (const Block* b : by_size) {
+    const bool meets = std::any_of(independent.begin(), independent.end(), [&](const Block* c) {
+      return !H.block(b->offset, c->offset, b->tangent, c->tangent).isZero(0.0);
+    });
+    (meets ? dense : independent).push_back(b);
+  }
+  // Remaining indices: the dense marginalised blocks, then every kept one.
+  std::vector<int> rest;
+  for (const Block* b : dense)
+    for (int i = 0; i < b->tangent; ++i) rest.push_back(b->offset + i);
+  const int n_dense = static_cast<int>(rest.size());
+  for (int i = n_marg; i < n_total; ++i) rest.push_back(i);
+  const int n_rest = static_cast<int>(rest.size());
+  Eigen::MatrixXd H_rest(n_rest, n_rest);
+  Eigen::VectorXd g_rest(n_rest);
+  for (int i = 0; i < n_rest; ++i) {
+    g_rest(i) = g(rest[i]);
+    for (int j = 0; j < n_rest; ++j) H_rest(i, j) = H(rest[i], rest[j]);
+  }
+  for (const Block* s : independent) {
+    const Eigen::MatrixXd H_ss = H.block(s->offset, s->offset, s->tangent, s->tangent);
+    const Eigen::MatrixXd inv = pseudoInverse(0.5 * (H_ss + H_ss.transpose()), eigenvalue_floor);
+    std::vector<int> coupled;  // positions in `rest` where this block couples
+    for (int i = 0; i < n_rest; ++i)
+      if (!H.block(rest[i], s->offset, 1, s->tangent).isZero(0.0)) coupled.push_back(i);
+    const int n_c = static_cast<int>(coupled.size());
+    Eigen::MatrixXd H_cs(n_c, s->tangent);
+    for (int i = 0; i < n_c; ++i) H_cs.row(i) = H.block(rest[coupled[i]], s->offset, 1, s->tangent);
+    const Eigen::MatrixXd W = H_cs * inv;
+    const Eigen::MatrixXd update = W * H_cs.transpose();
+    const Eigen::VectorXd g_update = W * g.segment(s->offset, s->tangent);
+    for (int i = 0; i < n_c; ++i) {
+      g_rest(coupled[i]) -= g_update(i);
+      for (int j = 0; j < n_c; ++j) H_rest(coupled[i], coupled[j]) -= update(i, j);
+    }
+  }
+
+  const int n_kept = n_total - n_marg;
+  Eigen::MatrixXd H_star = H_rest.bottomRightCorner(n_kept, n_kept);
+  Eigen::VectorXd g_star = g_rest.tail(n_kept);
+  if (n_dense > 0) {
+    const Eigen::MatrixXd H_dd = H_rest.topLeftCorner(n_dense, n_dense);
+    const Eigen::MatrixXd Hdd_inv =
+        pseudoInverse(0.5 * (H_dd + H_dd.transpose()), eigenvalue_floor);
+    // lazyProduct: these sizes (tens to a few hundred) do not pay for Eigen's OpenMP GEMM, whose
+    // spinning threads cost more than the product on a loaded 2-core machine.
+    const Eigen::MatrixXd Hkd = H_rest.bottomLeftCorner(n_kept, n_dense);
+    const Eigen::MatrixXd Hkd_Hdd_inv = Hkd.lazyProduct(Hdd_inv);
+    H_star -= Hkd_Hdd_inv.lazyProduct(Hkd.transpose());
+    g_star -= Hkd_Hdd_inv * g_rest.head(n_dense);
+  }
+  H_star = 0.5 * (H_star + H_star.transpose()).eval();
+
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(H_star);
+  std::vector<int> rows;
+  for (int k = 0; k < n_kept; ++k)
+    if (es.eigenvalues()(k) > eigenvalue_floor) rows.push_back(k);
+  if (rows.empty()) throw std::invalid_argument("Marginalizer: the prior carries no information");
+
+  auto prior = std::make_shared<MarginalizationPrior>();
+  prior->J.resize(static_cast<int>(rows.size()), n_kept);
+  prior->r.resize(static_cast<int>(rows.size()));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const double s = es.eigenvalues()(rows[i]);
+    const Eigen::VectorXd v = es.eigenvectors().col(rows[i]);
+    prior->J.row(static_cast<int>(i)) = std::sqrt(s) * v.transpose();
+    prior->r(static_cast<int>(i)) = v.dot(g_star) / std::sqrt(s);
+  }
+  for (const Block& b : kept) {
+    prior->blocks.push_back(b.address);
+    prior->sizes.push_back(b.size);
+    prior->tangent_sizes.push_back(b.tangent);
+    prior->tangent_offsets.push_back(b.offset - n_marg);
+    prior->manifolds.push_back(b.manifold);
+    prior->x0.emplace_back(b.address, b.address + b.size);
+  }
+  return prior;
+}
+
+Eigen::MatrixXd minusJacobianAt(const ceres::Manifold* manifold, int size, const double* x,
+                                const double* x0) {
+  if (!manifold) return Eigen::MatrixXd::Identity(size, size);
+  if (dynamic_cast<const PoseManifold*>(manifold)) {
+    // Minus = [p - p0, Log(q0^-1 q)]; q -> q Exp(d) moves the log by Jr^-1(log) d.
+    Eigen::MatrixXd D = Eigen::MatrixXd::Identity(6, 6);
+    const Eigen::Vector3d phi = quaternionLog(poseRotation(x0).conjugate() * poseRotation(x));
+    D.bottomRightCorner(3, 3) = rightJacobianInverse(phi);
+    return D;
+  }
+  const int n = manifold->TangentSize(), m = manifold->AmbientSize();
+  constexpr double kStep = 1e-6;
+  Eigen::MatrixXd D(n, n);
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(n), xp(m), xm(m), yp(n), ym(n);
+  for (int k = 0; k < n; ++k) {
+    delta(k) = kStep;
+    manifold->Plus(x, delta.data(), xp.data());
+    delta(k) = -kStep;
+    manifold->Plus(x, delta.data(), xm.data());
+    delta(k) = 0.0;
+    manifold->Minus(xp.data(), x0, yp.data());
+    manifold->Minus(xm.data(), x0, ym.data());
+    D.col(k) = (yp - ym) / (2.0 * kStep);
+  }
+  return D;
+}
+
+MarginalizationFactor::MarginalizationFactor(std::shared_ptr<const MarginalizationPrior> prior)
+    : prior_(std::move(prior)) {
+  set_num_residuals(static_cast<int>(prior_->r.size()));
+  for (int size : prior_->sizes) mutable_parameter_block_sizes()->push_back(size);
+}
+
+bool MarginalizationFactor::Evaluate(double const* const* parameters, double* residuals,
+                                     double** jacobians) const {
+  const MarginalizationPrior& p = *prior_;
+  Eigen::VectorXd dx(p.tangentSize());
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    double* out = dx.data() + p.tangent_offsets[k];
+    if (p.manifolds[k]) {
+      if (!p.manifolds[k]->Minus(parameters[k], p.x0[k].data(), out)) return false;
+    } else {
+      for (int i = 0; i < p.sizes[k]; ++i) out[i] = parameters[k][i] - p.x0[k][i];
+    }
+  }
+  Eigen::Map<Eigen::VectorXd>(residuals, p.r.size()) = p.r + p.J * dx;
+  if (!jacobians) return true;
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    if (!jacobians[k]) continue;
+    const ceres::Manifold* m = p.manifolds[k];
+    Eigen::MatrixXd J_tangent = p.J.middleCols(p.tangent_offsets[k], p.tangent_sizes[k]) *
+                                minusJacobianAt(m, p.sizes[k], parameters[k], p.x0[k].data());
+    Eigen::Map<RowMajorMatrix> J(jacobians[k], p.r.size(), p.sizes[k]);
+    if (!m) {
+      J = J_tangent;
+    } else {
+      // Lift to ambient coordinates: MinusJacobian(x) * PlusJacobian(x) = I.
+      RowMajorMatrix lift(m->TangentSize(), m->AmbientSize());
+      if (!m->MinusJacobian(parameters[k], lift.data())) return false;
+      J = J_tangent * lift;
+    }
+  }
+  return true;
+}
+
+}  // namespace adugs::vio
