@@ -58,6 +58,47 @@ TEST(CmdEvalMot, ReproducesPyMotmetricsReferenceValues) {
   EXPECT_NE(log.find("OVERALL"), std::string::npos) << log;
 }
 
+// HOTA of the same files as TrackEval's hota.py computes them (TrackEval 12c8791 run outside CI on
+// these files, 2026-11-25): HOTA, DetA, AssA, LocA per sequence and combined.
+TEST(CmdEvalMot, HotaReproducesTrackEvalOnTud) {
+  const auto ref = sharedDataDir() / "mot_reference";
+  ADUGS_REQUIRE_SHARED(ref / "expected.txt");
+  TempDir out;
+  std::string log;
+  const std::string json = (out / "mot.json").string();
+  ASSERT_EQ(runAdugs("eval-mot --gt " + (ref / "TUD-Campus/gt.txt").string() + " --est " +
+                         (ref / "TUD-Campus/test.txt").string() + " --gt " + (ref / "TUD-Stadtmitte/gt.txt").string() +
+                         " --est " + (ref / "TUD-Stadtmitte/test.txt").string() + " --json " + json,
+                     &log),
+            0)
+      << log;
+  const std::string j = readText(json);
+  const std::map<std::string, std::vector<double>> expected = {
+      {"TUD-Campus/test.txt", {0.391397, 0.418047, 0.369121, 0.770052, 0.441577, 0.714083, 0.383225, 0.754050}},
+      {"TUD-Stadtmitte/test.txt", {0.397849, 0.392268, 0.408841, 0.737521, 0.413131, 0.637622, 0.449219, 0.631203}},
+      {"\"overall\"", {0.399957, 0.397683, 0.412450, 0.732480}}};
+  const std::vector<std::string> keys = {"hota", "deta", "assa", "loca", "deta_recall", "deta_precision",
+                                         "assa_recall", "assa_precision"};
+  for (const auto& [anchor, values] : expected)
+    for (size_t k = 0; k < values.size(); ++k)
+      EXPECT_NEAR(jsonValue(j, anchor, keys[k]), values[k], 1e-5) << anchor << " " << keys[k];
+}
+
+// --switches lists each identity switch with its MOTChallenge frame number (frames 3 and 7 here).
+TEST(CmdEvalMot, SwitchesAreListedWithTheirFrames) {
+  TempDir dir;
+  std::string log;
+  writeText(dir / "gt.txt", "3,1,10,10,20,40,1\n7,1,10,10,20,40,1\n");
+  writeText(dir / "est.txt", "3,5,10,10,20,40,1\n7,6,10,10,20,40,1\n");
+  const std::string csv = (dir / "sw.csv").string();
+  ASSERT_EQ(runAdugs("eval-mot --gt " + (dir / "gt.txt").string() + " --est " + (dir / "est.txt").string() +
+                         " --switches " + csv,
+                     &log),
+            0)
+      << log;
+  EXPECT_NE(readText(csv).find("est.txt,7,1,5,6\n"), std::string::npos) << readText(csv);
+}
+
 TEST(CmdEvalMot, BadInputIsNamed) {
   TempDir dir;
   std::string log;
