@@ -54,7 +54,8 @@ struct TrackArgs {
   bool write_masks = false;
   double min_score = -1e9;
   bool write_coasting = false;
-  bool write_detections = false;  // DIR/det.txt: the detector's boxes with scores, MOTChallenge det format
+  bool write_detections = false;
+  std::vector<int> classes;  // detector class ids kept (empty: every dynamic class the detector keeps)  // DIR/det.txt: the detector's boxes with scores, MOTChallenge det format
   int detect_every = 1;
   bool fixed_noise = false;
   tracking::SortOptions sort;
@@ -71,6 +72,8 @@ class DetectionFeed {
     if (!a.detections.empty()) {
       if (!a.detector_model.empty())
         throw CLI::ValidationError("--detector-model", "the detections come from --detections; give one of the two");
+      if (!a.classes.empty())
+        throw CLI::ValidationError("--classes", "a detection file has no classes; --classes filters a detector's output");
       if (a.sort.appearance_weight > 0 && a.video.empty())
         throw CLI::ValidationError("--appearance", "the appearance cue needs the images: give the INPUT the detections belong to");
       file_ = data::readMotFile(a.detections);
@@ -99,6 +102,12 @@ class DetectionFeed {
     if (!detect) return true;
     if (detector_) {
       *dets = detector_->detect(*image);
+      if (!a_.classes.empty())
+        dets->erase(std::remove_if(dets->begin(), dets->end(),
+                                   [&](const tracking::Detection& d) {
+                                     return std::find(a_.classes.begin(), a_.classes.end(), d.class_id) == a_.classes.end();
+                                   }),
+                    dets->end());
     } else if (const auto it = file_.find(frame); it != file_.end()) {
       for (const data::MotBox& b : it->second)
         if (b.confidence >= a_.min_score)
@@ -250,6 +259,9 @@ void registerTrackCommand(CLI::App& root) {
                   "use the detections of every n-th frame only; SORT's predictions fill the others")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--classes", args->classes,
+                  "INPUT: keep only detections of these class ids (COCO ids for darknet / YOLOX, e.g. 0 = person for pedestrian benchmarks; the model's ids for ultralytics)")
+      ->check(CLI::Range(0, 10000));
   cmd->add_flag("--write-detections", args->write_detections,
                 "INPUT: also write the detector's boxes with their scores to DIR/det.txt (MOTChallenge det format, for --detections)");
   cmd->add_flag("--write-coasting", args->write_coasting,

@@ -2,7 +2,9 @@
 // TUD-Stadtmitte and OVERALL, shared/data/mot_reference/expected.txt) to 1e-3, and refuses bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -338,6 +340,21 @@ TEST(CmdTrack, DetectorOnARealVideo) {
   EXPECT_NEAR(jsonValue(n, "r/tracks.txt", "mota"), 1.0, 1e-9) << log;
   EXPECT_NEAR(jsonValue(n, "r/tracks.txt", "idf1"), 1.0, 1e-9) << log;
   EXPECT_GT(jsonValue(n, "q/tracks.txt", "recall"), 0.9) << log;
+  // --classes 0 keeps the people: fewer boxes than every dynamic class (the clip's parked cars),
+  // still several per frame; a detection file has no classes to filter.
+  ASSERT_EQ(runAdugs("track " + (dir / "clip.avi").string() + " --detector-model " + weights.string() +
+                         " --classes 0 --write-detections --out " + (dir / "people").string(),
+                     &log),
+            0)
+      << log;
+  const auto rows = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return static_cast<int>(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+  };
+  EXPECT_LT(rows(dir / "people/det.txt"), rows(dir / "o/det.txt"));
+  EXPECT_GT(rows(dir / "people/det.txt"), 40 * 3);
+  EXPECT_NE(runAdugs("track --detections " + det + " --classes 0 --out " + (dir / "p").string(), &log), 0);
+  EXPECT_NE(log.find("--classes"), std::string::npos) << log;
   // Neither input, or detections from both a file and a model: refused.
   EXPECT_NE(runAdugs("track --out " + (dir / "p").string(), &log), 0);
   EXPECT_NE(log.find("--detections"), std::string::npos) << log;
