@@ -4,7 +4,9 @@
 // matches with IoU below iou_min are refused. Matched tracks fuse their detection, unmatched
 // detections start tracks, unmatched tracks coast on their prediction for up to max_age frames -
 // the predicted box stands in for a missed detection (partial or full occlusion) so the dynamic
-// mask keeps covering the object.
+// mask keeps covering the object. Optional association stages after the first (ByteTrack's
+// low-score detections, OC-SORT's last-box recovery) and cost terms (appearance, OC-SORT's
+// direction momentum): SortOptions and doc/tracking.md.
 #include <cstdint>
 #include <deque>
 #include <functional>
