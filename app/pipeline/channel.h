@@ -1,7 +1,7 @@
 #pragma once
-// A closable FIFO between two threads of `adugs run` (front-end -> estimator, and the gyro bias
-// back). push blocks while full, pop while empty; after close(), push refuses and pop drains
-// what is left, then returns false. Either side closes it to stop the other.
+// A closable FIFO between two stages of the pipeline (app/pipeline/pipeline.h). push blocks while
+// full, pop while empty; after close(), push refuses and pop drains what is left, then returns
+// false. Either side closes it to stop the other.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
