@@ -78,8 +78,8 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
       << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
       << "mask: " << a.mask.mask << "\n"
-      << "threads: " << r.threads << " (acquisition, masking, front-end, estimator" << (r.threads > 4 ? ", view" : "")
-      << ")\n";
+      << "threads: " << r.threads << " (acquisition, masking, front-end, "
+      << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 4 ? ", view" : "") << ")\n";
   if (const vio::SlidingWindowEstimator* estimator = pipeline.estimator()) {
     const vio::EstimatorStats& es = estimator->stats();
     out << "keyframes: " << es.keyframes << "\n"
@@ -138,6 +138,7 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "frames_lost_by_source: " << counts.frames_lost << "\n"
       << "imu_samples_to_estimator: " << s.imu_to_estimator << "\n"
       << "imu_samples_after_last_frame: " << r.imu_after_last_frame << "\n";
+  if (r.threads > 4) out << "view_frames_skipped: " << s.view_frames_skipped << "  # live: the view never holds the pipeline back\n";
   return out.str();
 }
 

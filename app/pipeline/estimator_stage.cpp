@@ -19,7 +19,7 @@ EstimatorStage::EstimatorStage(std::unique_ptr<vio::SlidingWindowEstimator> esti
 }
 
 void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, BiasFeedback* biases,
-                         PipelineCounters& counters) {
+                         PipelineCounters& counters, bool live) {
   counters.estimating = estimator_ != nullptr;
   PipelineFrame f;
   while (in.pop(&f)) {
@@ -50,7 +50,12 @@ void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* vie
     ++counters.frames_processed;
     if (view) {
       f.imu.clear();
-      if (!view->push(std::move(f))) break;
+      if (!live) {
+        if (!view->push(std::move(f))) break;
+      } else if (!view->tryPush(f)) {
+        if (view->closed()) break;
+        ++stats_.view_frames_skipped;
+      }
     }
   }
   if (biases) biases->close();

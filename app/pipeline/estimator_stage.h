@@ -25,9 +25,11 @@ class EstimatorStage {
                  double test_delay_ms);
 
   // Until `in` is drained or `view` closed; then closes `view` and the trajectory file, and
-  // publishes the bias after every frame (closing `biases` at the end). Exceptions propagate.
+  // publishes the bias after every frame (closing `biases` at the end). live: the view never holds
+  // the pipeline back, frames it is not ready for are not drawn (counted); playback: it gets every
+  // frame. Exceptions propagate.
   void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, BiasFeedback* biases,
-           PipelineCounters& counters);
+           PipelineCounters& counters, bool live);
 
   const PipelineStats& stats() const { return stats_; }  // after run()
   const vio::SlidingWindowEstimator* estimator() const { return estimator_.get(); }

@@ -130,7 +130,7 @@ PipelineResult Pipeline::run() {
   start([&] { acquisition_->run(gate_, counters_, stop_); });
   start([&] { masking_->run(gate_, masked_, biases); });
   start([&] { front_end_->run(masked_, tracked_, biases); });
-  start([&] { estimator_->run(tracked_, view, biases, counters_); });
+  start([&] { estimator_->run(tracked_, view, biases, counters_, live_); });
   if (view_) start([&] { view_->run(viewed_, [this] { requestStop("window closed"); }); });
 
   // This thread watches: Ctrl-C, and the status line once a second.

@@ -24,6 +24,7 @@ struct PipelineStats {
   size_t frames = 0;            // processed by every stage
   size_t poses = 0;             // estimated
   size_t imu_to_estimator = 0;  // IMU samples the estimator was given
+  size_t view_frames_skipped = 0;  // live: frames the view was not ready to draw
   double sequence_s = 0;        // of the last frame processed
   std::vector<double> frontend_ms, backend_ms, mask_ms, latency_ms;  // latency: acquisition -> estimated
   std::vector<double> dynamic_drop, masked_fraction, features;
