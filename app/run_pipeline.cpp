@@ -78,8 +78,8 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
       << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
       << "mask: " << a.mask.mask << "\n"
-      << "threads: " << r.threads << " (acquisition, masking, front-end, "
-      << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 4 ? ", view" : "") << ")\n";
+      << "threads: " << r.threads << " (acquisition, detection, masking, front-end, "
+      << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 5 ? ", view" : "") << ")\n";
   if (const vio::SlidingWindowEstimator* estimator = pipeline.estimator()) {
     const vio::EstimatorStats& es = estimator->stats();
     out << "keyframes: " << es.keyframes << "\n"
@@ -116,7 +116,9 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
         << "  frontend_median: " << median(s.frontend_ms) << "\n"
         << "  frontend_mean: " << mean(s.frontend_ms) << "\n";
   }
-  out << "  dynamic_mask_median: " << median(s.mask_ms) << "\n"
+  out << "  dynamic_mask_median: " << median(s.mask_ms) << "  # detector + SORT, segmentation, refinement\n"
+      << "  detection_median: " << median(s.detect_ms) << "  # the frames the detector ran on\n"
+      << "  segmentation_median: " << median(s.segment_ms) << "  # SORT, segmentation, refinement\n"
       << "  latency_median: " << median(s.latency_ms) << "  # source -> estimated\n"
       << "dynamic_features_dropped_per_frame: " << mean(s.dynamic_drop) << "\n"
       << "masked_image_fraction: " << mean(s.masked_fraction) << "\n";
@@ -138,7 +140,14 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "frames_lost_by_source: " << counts.frames_lost << "\n"
       << "imu_samples_to_estimator: " << s.imu_to_estimator << "\n"
       << "imu_samples_after_last_frame: " << r.imu_after_last_frame << "\n";
-  if (r.threads > 4) out << "view_frames_skipped: " << s.view_frames_skipped << "  # live: the view never holds the pipeline back\n";
+  out << "cpu_s: " << r.cpu_s << "  # user + system, every thread\n"
+      << "cpu_per_sequence_s: " << (s.sequence_s > 0 ? r.cpu_s / s.sequence_s : 0.0)
+      << "  # below the machine's cores: it could keep up if the stages overlap\n"
+      << "stage_thread_cpu_s: {";
+  for (size_t i = 0; i < r.stage_cpu_s.size(); ++i)
+    out << (i ? ", " : "") << r.stage_cpu_s[i].first << ": " << r.stage_cpu_s[i].second;
+  out << "}  # each stage's own thread (library worker threads not included)\n";
+  if (r.threads > 5) out << "view_frames_skipped: " << s.view_frames_skipped << "  # live: the view never holds the pipeline back\n";
   return out.str();
 }
 

@@ -2,11 +2,11 @@
 
 #include <chrono>
 #include <filesystem>
+#include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "data/input_error.h"
-#include "tracking/detector_factory.h"
 #include "tracking/segmenter_factory.h"
 
 namespace adugs::app {
@@ -41,7 +41,6 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
     if (options_.detector_model.empty())
       throw data::InputError("--detector-model", 0, "detector_model",
                              "--mask detector needs a detector model (ultralytics .torchscript, .onnx or darknet .weights)");
-    detector_ = tracking::makeDetector(options_.detector_model, options_.detector_config);
     masker_ = std::make_unique<tracking::DynamicMasker>(
         options_.masker, tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
   }
@@ -56,7 +55,6 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
     return true;
   }
   if (!masker_) return true;
-  const auto t0 = std::chrono::steady_clock::now();
   const int64_t previous_t = previous_t_;
   previous_t_ = frame.t_ns;
   if (options_.masker.camera_motion_compensation) {
@@ -75,9 +73,12 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
     });
   }
   gyro_.dropBefore(frame.t_ns);
+  // The detection stage ran the detector on the frames the masker is due for; one rule, checked.
+  if (masker_->detectionDue() != f->detections.has_value())
+    throw std::logic_error("frame " + std::to_string(f->index) + ": the detection stage and the masker disagree on detect_every");
+  const auto t0 = std::chrono::steady_clock::now();
   const cv::Mat& image = frame.colour.empty() ? frame.image : frame.colour;
-  const tracking::DynamicMaskResult r =
-      masker_->detectionDue() ? masker_->process(image, detector_->detect(image)) : masker_->carry(image);
+  const tracking::DynamicMaskResult r = f->detections ? masker_->process(image, *f->detections) : masker_->carry(image);
   f->mask_ms = msSince(t0);
   f->mask = r.mask;
   f->masked_fraction = r.masked_fraction;
@@ -91,7 +92,7 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
   return true;
 }
 
-void MaskingStage::run(FrameGate& in, Channel<PipelineFrame>& out, BiasFeedback* biases) {
+void MaskingStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases) {
   PipelineFrame f;
   while (in.pop(&f)) {
     if (!process(&f, biases)) break;

@@ -3,9 +3,10 @@
 // replays): a source in; poses, statistics and the view out. Each stage on a thread of its own,
 // joined by bounded queues (doc/architecture.md, "Data flow"):
 //
-//   source -> acquisition -> FrameGate -> masking -> front-end -> estimator -> [view]
-//                                            ^            ^            |
-//                                            +--- gyro bias after frame k-3 / k-2 (BiasFeedback)
+//   source -> acquisition -> FrameGate -> detection -> masking -> front-end -> estimator -> [view]
+//                                                         ^            ^            |
+//                                                         +- gyro bias after frame k-3 / k-2
+//                                                            (BiasFeedback)
 //
 // Playback (a source that is not live): the gate waits, nothing is dropped, and the output is the
 // same to the byte whatever the threads' timing. Live: the gate drops the oldest waiting frame
@@ -20,6 +21,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/pipeline/bias_feedback.h"
 #include "app/pipeline/channel.h"
@@ -41,6 +44,7 @@ class SlidingWindowEstimator;
 namespace adugs::app {
 
 class AcquisitionStage;
+class DetectionStage;
 class EstimatorStage;
 class FrontEndStage;
 
@@ -71,6 +75,10 @@ struct PipelineResult {
   data::SourceCounts source_counts;
   int64_t first_t_ns = -1;
   double wall_s = 0;
+  // CPU time (user + system) of the run, all threads (OpenCV's and libtorch's workers included),
+  // and of each stage's own thread (work a stage hands to library worker threads is not in it).
+  double cpu_s = 0;
+  std::vector<std::pair<std::string, double>> stage_cpu_s;
 };
 
 std::string toString(PipelineResult::End end);  // end_of_source | stopped | error
@@ -98,10 +106,11 @@ class Pipeline {
   StopSignal stop_signal_;  // first: Ctrl-C while the models load stops the run at its start
   bool live_;
   FrameGate gate_;
-  Channel<PipelineFrame> masked_, tracked_, viewed_;
+  Channel<PipelineFrame> detected_, masked_, tracked_, viewed_;
   BiasFeedback biases_;
   PipelineCounters counters_;
   std::unique_ptr<AcquisitionStage> acquisition_;
+  std::unique_ptr<DetectionStage> detection_;
   std::unique_ptr<MaskingStage> masking_;
   std::unique_ptr<FrontEndStage> front_end_;
   std::unique_ptr<EstimatorStage> estimator_;
@@ -113,6 +122,7 @@ class Pipeline {
   PipelineResult::End end_ = PipelineResult::End::kEndOfSource;
   std::string why_;
   std::exception_ptr error_;
+  std::vector<std::pair<std::string, double>> stage_cpu_s_;
   size_t last_in_ = 0, last_out_ = 0;  // for the status line's rates
 };
 

@@ -10,6 +10,7 @@
 
 #include "data/sequence_source.h"
 #include "data/types.h"
+#include "tracking/detector.h"
 #include "tracking/sort_tracker.h"
 #include "vio/frontend/feature_tracker.h"
 
@@ -23,10 +24,14 @@ struct PipelineFrame {
   double sequence_s = 0;             // since the source's first measurement
   std::chrono::steady_clock::time_point acquired_at;  // when the source handed the frame over
 
+  // Detection (app/pipeline/detection_stage.h): set on the frames the detector ran on
+  std::optional<std::vector<tracking::Detection>> detections;
+  double detect_ms = 0;
+
   // Masking (app/pipeline/masking_stage.h)
   cv::Mat mask;  // CV_8UC1, 255 = dynamic; empty = no mask
   std::vector<tracking::TrackedObject> objects;  // the masker's boxes
-  double mask_ms = -1;                           // < 0: no detector mask computed
+  double mask_ms = -1;  // SORT + segmentation + refinement; < 0: no detector mask computed
   double masked_fraction = 0;
   // Detector masks scored against the simulator's exact masks (when the sequence has them):
   // pixels of the exact mask, of those covered, and masked in all.

@@ -26,7 +26,8 @@ struct PipelineStats {
   size_t imu_to_estimator = 0;  // IMU samples the estimator was given
   size_t view_frames_skipped = 0;  // live: frames the view was not ready to draw
   double sequence_s = 0;        // of the last frame processed
-  std::vector<double> frontend_ms, backend_ms, mask_ms, latency_ms;  // latency: acquisition -> estimated
+  // mask: detection + SORT/segmentation/refinement (the dynamic-mask chain); latency: source -> estimated
+  std::vector<double> frontend_ms, backend_ms, detect_ms, segment_ms, mask_ms, latency_ms;
   std::vector<double> dynamic_drop, masked_fraction, features;
   double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
 
@@ -38,7 +39,9 @@ struct PipelineStats {
     dynamic_drop.push_back(f.dropped_dynamic);
     features.push_back(static_cast<double>(f.features.size()));
     if (f.mask_ms >= 0) {
-      mask_ms.push_back(f.mask_ms);
+      if (f.detections) detect_ms.push_back(f.detect_ms);
+      segment_ms.push_back(f.mask_ms);
+      mask_ms.push_back(f.detect_ms + f.mask_ms);
       masked_fraction.push_back(f.masked_fraction);
       exact_pixels += f.exact_pixels;
       exact_covered += f.exact_covered;

@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <thread>
 
 #include "app/pipeline/bias_feedback.h"
 #include "app/pipeline/frame_gate.h"
 #include "app/pipeline/status_line.h"
+#include "app/pipeline/stop_signal.h"
 #include "app/pipeline/top_view.h"
 
 namespace adugs::app {
@@ -114,6 +116,35 @@ TEST(BiasFeedback, WaitsForTheFrameAskedForAndStopsWhenClosed) {
   EXPECT_EQ(b, Eigen::Vector3d::Constant(1));
   EXPECT_FALSE(feedback.waitFor(5, &b));  // never published: closed
   estimator.join();
+}
+
+volatile std::sig_atomic_t g_previous_handler_calls = 0;
+void previousHandler(int) { ++g_previous_handler_calls; }
+
+// While a StopSignal exists, SIGINT and SIGTERM become a stop request (reported once, by wait());
+// afterwards the previous handlers are back.
+TEST(StopSignal, TurnsSigintIntoAStopRequestAndRestoresTheHandler) {
+  std::signal(SIGINT, previousHandler);
+  {
+    StopSignal stop;
+    EXPECT_FALSE(stop.wait(std::chrono::milliseconds(1)));
+    std::thread waker([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      stop.wake();
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_FALSE(stop.wait(std::chrono::seconds(10)));  // woken, no signal
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+    waker.join();
+    std::raise(SIGINT);  // the process goes on
+    EXPECT_TRUE(stop.wait(std::chrono::milliseconds(100)));
+    EXPECT_EQ(stop.signalNumber(), SIGINT);
+    EXPECT_FALSE(stop.wait(std::chrono::milliseconds(1)));  // reported once
+    EXPECT_EQ(g_previous_handler_calls, 0);
+  }
+  std::raise(SIGINT);
+  EXPECT_EQ(g_previous_handler_calls, 1);
+  std::signal(SIGINT, SIG_DFL);
 }
 
 TEST(StatusLine, SaysRatesDropsFeaturesAndState) {
