@@ -5,6 +5,8 @@
 // status line), never IMU samples. Ctrl-C (SIGINT, SIGTERM) stops cleanly: the frames already
 // inside are finished and every output written. The view: a window when $DISPLAY is set (quit with
 // q), otherwise a status line per second; --overlay writes it as a video.
+#include <cstdlib>
+#include <iostream>
 #include <memory>
 #include <string>
 
@@ -34,7 +36,10 @@ void runLive(const LiveArgs& a) {
   p.config_path = a.config_path;
   p.mask = a.mask;
   p.overlay = a.overlay;
-  p.window = !a.no_window && LiveWindow::available();
+  std::string why;
+  p.window = !a.no_window && LiveWindow::available(&why);
+  if (!a.no_window && !p.window && std::getenv("DISPLAY") != nullptr && !a.quiet)
+    std::cerr << "live: no window (" << why << "); the status line follows, --overlay writes the view\n";
   p.quiet = a.quiet;
   runPipeline(sequence, p);
 }

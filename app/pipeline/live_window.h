@@ -1,6 +1,6 @@
 #pragma once
-// The live view's window: ViSP's X11 display (vpDisplayX), opened on the first image. The user
-// ends the run with `q` or Escape in the window.
+// The live view's window: ViSP's X11 display (vpDisplayX), opened on the first image (check
+// available() first). The user ends the run with `q` or Escape in the window.
 #include <memory>
 #include <string>
 
@@ -15,8 +15,9 @@ class LiveWindow {
   // Shows a BGR image (the window follows its size); false once the user asked to quit.
   bool show(const cv::Mat& bgr);
 
-  // Whether a window can be opened here: ViSP built with X11 and $DISPLAY set.
-  static bool available();
+  // Whether a window can be opened here: ViSP built with X11, $DISPLAY set and its X server
+  // answering. When not, *why says why (if given).
+  static bool available(std::string* why = nullptr);
 
  private:
   struct Impl;

@@ -147,7 +147,7 @@ PipelineResult Pipeline::run() {
       {"masking", [&] { masking_->run(detected_, masked_, biases); }},
       {"front_end", [&] { front_end_->run(masked_, tracked_, biases); }},
       {"estimator", [&] { estimator_->run(tracked_, view, biases, counters_, live_); }}};
-  if (view_) stages.emplace_back("view", [&] { view_->run(viewed_, [this] { requestStop("window closed"); }); });
+  if (view_) stages.emplace_back("view", [&] { view_->run(viewed_, [this] { requestStop("quit in the window"); }); });
   stage_cpu_s_.clear();
   for (const auto& stage : stages) stage_cpu_s_.emplace_back(stage.first, 0.0);
   running_ = static_cast<int>(stages.size());

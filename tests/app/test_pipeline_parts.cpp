@@ -4,10 +4,13 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
+#include <string>
 #include <thread>
 
 #include "app/pipeline/bias_feedback.h"
 #include "app/pipeline/frame_gate.h"
+#include "app/pipeline/live_window.h"
 #include "app/pipeline/status_line.h"
 #include "app/pipeline/stop_signal.h"
 #include "app/pipeline/top_view.h"
@@ -145,6 +148,23 @@ TEST(StopSignal, TurnsSigintIntoAStopRequestAndRestoresTheHandler) {
   std::raise(SIGINT);
   EXPECT_EQ(g_previous_handler_calls, 1);
   std::signal(SIGINT, SIG_DFL);
+}
+
+// No window without an X server to show it: the live command then runs headless and says why.
+TEST(LiveWindow, IsNotAvailableWithoutAnXServerAndSaysWhy) {
+  const char* saved = std::getenv("DISPLAY");
+  const std::string previous = saved ? saved : "";
+  std::string why;
+  unsetenv("DISPLAY");
+  EXPECT_FALSE(LiveWindow::available(&why));
+  EXPECT_NE(why.find("DISPLAY"), std::string::npos) << why;
+  setenv("DISPLAY", ":4711", 1);  // no server there
+  EXPECT_FALSE(LiveWindow::available(&why));
+  EXPECT_NE(why.find(":4711"), std::string::npos) << why;
+  if (saved)
+    setenv("DISPLAY", previous.c_str(), 1);
+  else
+    unsetenv("DISPLAY");
 }
 
 TEST(StatusLine, SaysRatesDropsFeaturesAndState) {
