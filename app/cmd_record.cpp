@@ -39,8 +39,8 @@ struct RecordArgs {
 };
 
 struct RecordCounts {
-  size_t frames_acquired = 0, imu_acquired = 0, frames_lost_queue = 0;
-  size_t csv_frames = 0, image_files = 0, csv_imu = 0;
+  std::atomic<size_t> frames_acquired{0}, imu_acquired{0}, frames_lost_queue{0};  // by the acquisition thread
+  size_t csv_frames = 0, image_files = 0, csv_imu = 0;                              // the check at the end
 };
 
 // Rows of an ASL CSV (after its header), 0 when the file does not exist.
@@ -140,9 +140,9 @@ void record(const RecordArgs& a) {
   c.csv_frames = csvRows(mav / "cam0/data.csv");
   c.image_files = pngFiles(mav / "cam0/data");
   c.csv_imu = sequence.has_imu ? csvRows(mav / "imu0/data.csv") : 0;
-  const size_t frames_kept = c.frames_acquired - c.frames_lost_queue;
+  const size_t frames_kept = c.frames_acquired - c.frames_lost_queue;  // the acquisition has ended
   const bool complete = c.frames_lost_queue == 0 && c.csv_frames == frames_kept && c.image_files == frames_kept &&
-                        c.csv_imu == (sequence.has_imu ? c.imu_acquired : 0);
+                        c.csv_imu == (sequence.has_imu ? c.imu_acquired.load() : 0);
   std::ostringstream summary;
   summary << "source: \"" << source.description() << "\"\n"
           << "calibration: \"" << sequence.calibration_from << "\"\n"
@@ -166,10 +166,10 @@ void record(const RecordArgs& a) {
   if (writer_error) std::rethrow_exception(writer_error);
   if (source_error) std::rethrow_exception(source_error);
   if (!complete)
-    throw std::runtime_error("the recording is incomplete: " + std::to_string(c.frames_lost_queue) +
+    throw std::runtime_error("the recording is incomplete: " + std::to_string(c.frames_lost_queue.load()) +
                              " frames lost because the writer fell " + std::to_string(a.max_queued_frames) +
                              " frames behind (slow disk?), " + std::to_string(c.csv_frames) + " frames in cam0/data.csv, " +
-                             std::to_string(c.image_files) + " images, of " + std::to_string(c.frames_acquired) +
+                             std::to_string(c.image_files) + " images, of " + std::to_string(c.frames_acquired.load()) +
                              " acquired (see " + (fs::path(a.out_dir) / "record.yaml").string() + ")");
 }
 
