@@ -35,7 +35,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "app/overlay_video.h"
+#include "app/pipeline/overlay_video.h"
 #include "calib/image_source.h"
 #include "tracking/appearance.h"
 #include "tracking/detector_factory.h"

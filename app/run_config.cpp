@@ -50,6 +50,12 @@ RunConfig loadRunConfig(const std::string& path) {
     if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
     d.finish();
   }
+  if (r.has("pipeline")) {
+    data::YamlOptionsReader p = r.child("pipeline");
+    p.optional("frame_queue", c.pipeline.frame_queue, 1, 1000);
+    p.optional("test_estimator_delay_ms", c.pipeline.test_estimator_delay_ms, 0.0, 60000.0);
+    p.finish();
+  }
   if (r.has("playback")) {
     data::YamlOptionsReader p = r.child("playback");
     data::PlaybackOptions& o = c.playback;
