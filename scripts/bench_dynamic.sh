@@ -13,9 +13,11 @@
 # Usage: scripts/bench_dynamic.sh [--out DIR] [--seeds "3 4 5"] [--scenes "room street"]
 #          [--levels "none low mid high"] [--duration 20] [--detector MODEL] [--jobs N]
 #          [--sam-encoder E.pt --sam-decoder D.pt] [--no-heatmap] [--results doc/results.md]
-#          [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]... [--candidate-levels "mid high"]
+#          [--ablation-levels "mid high"] [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]...
+#          [--candidate-levels "mid high"]
 # --results: writes the tables and the heatmap into that file (between the bench_dynamic markers)
 # and doc/images/; without it they are in DIR/report.md and DIR/heatmap.png.
+# --ablation-levels: the levels of the SORT ablation's runs (default: all).
 # --candidate: one more detector-chain column with other masker settings (keys of the run config's
 # `dynamic:` map, e.g. `--candidate age20=max_age:20`), run on --candidate-levels (default: all)
 # and compared with the default chain seed by seed on the same sequences.
@@ -31,7 +33,7 @@ levels="none low mid high"
 duration=20
 detector="$root/../shared/models/yolox_nano/yolox_nano.onnx"
 jobs=$(nproc)
-sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels=""
+sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -47,6 +49,7 @@ while [ $# -gt 0 ]; do
     --no-heatmap) heatmap=0; shift ;;
     --candidate) candidates="$candidates $2"; shift 2 ;;
     --candidate-levels) candidate_levels="$2"; shift 2 ;;
+    --ablation-levels) ablation_levels="$2"; shift 2 ;;
     *) echo "bench_dynamic: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -76,6 +79,7 @@ for c in $candidates; do
   candidate_modes="$candidate_modes cand_$name"
 done
 candidate_levels="${candidate_levels:-$levels}"
+ablation_levels="${ablation_levels:-$levels}"
 
 # 1. Sequences: every level of a (scene, seed) shares the world, path and IMU noise.
 sim_one() {  # scene seed
@@ -100,6 +104,7 @@ for scene in $scenes; do
     for level in $levels; do
       seq="$out/seq/${scene}_s${seed}/$level"
       for mode in $modes; do
+        if [[ $mode == det_fixed_r || $mode == det_no_sort ]] && [[ " $ablation_levels " != *" $level "* ]]; then continue; fi
         case $mode in
           none) opts="--mask none" ;;
           gt) opts="--mask gt" ;;
@@ -144,4 +149,4 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --joblog "$out/joblog" < "$out/r
 /usr/bin/python3 "$root/scripts/bench_dynamic_report.py" "$out" --seeds "$seeds" --scenes "$scenes" \
   --levels "$levels" --modes "$modes" --nmax "$nmax_values" --dmin "$dmin_values" \
   --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"} \
-  --candidates "$candidates" --candidate-levels "$candidate_levels"
+  --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels"

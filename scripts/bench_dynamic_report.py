@@ -93,11 +93,16 @@ def main():
     p.add_argument("--results")
     p.add_argument("--candidates", default="", help="NAME=KEY:VALUE[,...] ... as given to bench_dynamic.sh")
     p.add_argument("--candidate-levels", default="")
+    p.add_argument("--ablation-levels", default="")
     a = p.parse_args()
     seeds, scenes, levels, modes = a.seeds.split(), a.scenes.split(), a.levels.split(), a.modes.split()
     candidates = [c.split("=", 1) for c in a.candidates.split()]
     candidate_levels = [l for l in levels if l in (a.candidate_levels.split() or levels)]
-    options = "".join(" --candidate %s" % c for c in a.candidates.split())
+    ablation_levels = [l for l in levels if l in (a.ablation_levels.split() or levels)]
+    options = ""
+    if ablation_levels != levels:
+        options += " --ablation-levels \"%s\"" % " ".join(ablation_levels)
+    options += "".join(" --candidate %s" % c for c in a.candidates.split())
     if candidates and candidate_levels != levels:
         options += " --candidate-levels \"%s\"" % " ".join(candidate_levels)
     lines = ["### Dynamic scenes: Table I, SORT ablation, N_max x D_min (scripts/bench_dynamic.sh)", "",
@@ -160,7 +165,7 @@ def main():
               "| scene | level | " + " | ".join("adaptive R" if m == "det" else MODE_TITLES[m] for m in ablation) + " |",
               "|---|---|" + "---|" * len(ablation)]
     for scene in scenes:
-        for level in levels:
+        for level in ablation_levels:
             lines.append("| %s | %s | " % (scene, level) + " | ".join(cell(ate[(scene, level, m)]) for m in ablation) + " |")
     if candidates and "det" in modes:
         lines += ["", "Candidate masker settings (the run config's `dynamic:` keys) against the default chain, "
