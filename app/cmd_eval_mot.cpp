@@ -1,12 +1,15 @@
 // `adugs eval-mot --gt gt.txt --est tracks.txt [--gt ... --est ...] [--json out.json]`: CLEAR-MOT
 // and identity metrics of tracker output against MOTChallenge ground truth, per sequence and
-// OVERALL when several pairs are given. Ground-truth rows with confidence 0 are MOTChallenge's
-// "ignore" regions: not scored, and hypotheses on them are neither matches nor false positives.
+// OVERALL when several pairs are given. Ground-truth rows with confidence 0 are, by default,
+// "ignore" regions: not scored, and hypotheses on them are neither matches nor false positives
+// (--ignore-rule zero-confidence); --ignore-rule mot15 is TrackEval's MOT15 setting: those rows are
+// dropped and every hypothesis is scored, so one on them is a false positive.
 // Frames scored: the union of the two files' frames.
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -23,9 +26,25 @@
 namespace adugs::app {
 namespace {
 
+// What a ground-truth row with confidence 0 means.
+enum class IgnoreRule {
+  kZeroConfidenceRegions,  // an ignore region: hypotheses on it are not scored (MOT16/17 devkits' spirit)
+  kMot15,                  // TrackEval's MOT15: the row is dropped, hypotheses on it are false positives
+};
+
+const std::map<std::string, IgnoreRule> kIgnoreRules = {{"zero-confidence", IgnoreRule::kZeroConfidenceRegions},
+                                                       {"mot15", IgnoreRule::kMot15}};
+
+std::string ignoreRuleName(IgnoreRule rule) {
+  for (const auto& [name, r] : kIgnoreRules)
+    if (r == rule) return name;
+  return "?";
+}
+
 struct EvalMotArgs {
   std::vector<std::string> gt, est;
   double iou_min = 0.5;
+  IgnoreRule ignore_rule = IgnoreRule::kZeroConfidenceRegions;
   std::string json;
   std::string switches;  // CSV of the identity switches
 };
@@ -40,7 +59,8 @@ tracking::Box toBox(const data::MotBox& b) {
   return tracking::Box::fromCorners(b.left, b.top, b.left + b.width, b.top + b.height);
 }
 
-PairResult evaluatePair(const std::string& gt_path, const std::string& est_path, double iou_min) {
+PairResult evaluatePair(const std::string& gt_path, const std::string& est_path, double iou_min,
+                        IgnoreRule ignore_rule) {
   const auto gt = data::readMotFile(gt_path);
   const auto est = data::readMotFile(est_path);
   std::set<int> frames;
@@ -53,8 +73,8 @@ PairResult evaluatePair(const std::string& gt_path, const std::string& est_path,
     std::vector<tracking::Box> ignored;
     if (const auto it = gt.find(f); it != gt.end())
       for (const data::MotBox& b : it->second) {
-        if (b.confidence == 0) ignored.push_back(toBox(b));
-        else g.push_back({b.id, toBox(b)});
+        if (b.confidence != 0) g.push_back({b.id, toBox(b)});
+        else if (ignore_rule == IgnoreRule::kZeroConfidenceRegions) ignored.push_back(toBox(b));
       }
     if (const auto it = est.find(f); it != est.end())
       for (const data::MotBox& b : it->second) h.push_back({b.id, toBox(b)});
@@ -109,7 +129,7 @@ void runEvalMot(const EvalMotArgs& a) {
   std::ostringstream switches;
   switches << "est,frame,gt_id,previous_hypothesis_id,hypothesis_id\n";
   for (size_t i = 0; i < a.gt.size(); ++i) {
-    const PairResult r = evaluatePair(a.gt[i], a.est[i], a.iou_min);
+    const PairResult r = evaluatePair(a.gt[i], a.est[i], a.iou_min, a.ignore_rule);
     rows.push_back(r.summary);
     hota_rows.push_back(r.hota);
     for (const tracking::IdSwitch& s : r.switches)
@@ -117,7 +137,8 @@ void runEvalMot(const EvalMotArgs& a) {
                << "\n";
   }
   if (!a.switches.empty()) data::writeTextFileAtomically(a.switches, switches.str());
-  std::cout << "adugs eval-mot (IoU >= " << a.iou_min << ", MOTP = mean IoU of matches)\n"
+  std::cout << "adugs eval-mot (IoU >= " << a.iou_min << ", MOTP = mean IoU of matches, confidence-0 ground truth: "
+            << (a.ignore_rule == IgnoreRule::kMot15 ? "dropped, as TrackEval's MOT15" : "ignore regions") << ")\n"
             << std::left << std::setw(28) << "sequence" << std::right
             << "   MOTA   MOTP   IDF1    IDP    IDR   Rcll   Prcn   GT   MT   PT   ML     FP     FN  IDsw    FM   HOTA   DetA   AssA   LocA\n";
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -129,7 +150,8 @@ void runEvalMot(const EvalMotArgs& a) {
   if (rows.size() > 1) printRow(std::cout, "OVERALL", overall, hota_overall);
   if (!a.json.empty()) {
     std::ostringstream j;
-    j << "{\n  \"iou_min\": " << a.iou_min << ",\n  \"sequences\": [\n";
+    j << "{\n  \"iou_min\": " << a.iou_min << ",\n  \"ignore_rule\": \"" << ignoreRuleName(a.ignore_rule)
+      << "\",\n  \"sequences\": [\n";
     for (size_t i = 0; i < rows.size(); ++i)
       j << "    {\"gt\": \"" << a.gt[i] << "\", \"est\": \"" << a.est[i] << "\", \"metrics\": " << jsonObject(rows[i], hota_rows[i])
         << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
@@ -153,6 +175,12 @@ void registerEvalMotCommand(CLI::App& root) {
   cmd->add_option("--iou", args->iou_min, "minimum IoU of a match")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
+  cmd->add_option("--ignore-rule", args->ignore_rule,
+                  "ground-truth rows with confidence 0: zero-confidence = ignore regions (a hypothesis on one is "
+                  "not scored); mot15 = TrackEval's MOT15 setting (the rows are dropped, hypotheses on them are "
+                  "false positives)")
+      ->transform(CLI::CheckedTransformer(kIgnoreRules))
+      ->default_str("zero-confidence");
   cmd->add_option("--json", args->json, "write the metrics as JSON (lower-case keys)");
   cmd->add_option("--switches", args->switches,
                   "write every identity switch as CSV (est, frame, gt id, previous and new hypothesis id)");

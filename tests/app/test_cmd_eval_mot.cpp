@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <fstream>
@@ -133,6 +134,54 @@ TEST(CmdEvalMot, ZeroConfidenceGroundTruthIsIgnoredNotMissed) {
   EXPECT_EQ(jsonValue(j, "\"overall\"", "mota"), 1.0);
   EXPECT_EQ(jsonValue(j, "\"overall\"", "num_false_positives"), 0.0);
   EXPECT_EQ(jsonValue(j, "\"overall\"", "idf1"), 1.0);
+}
+
+// --ignore-rule mot15 (TrackEval's MOT15 setting): confidence-0 rows are dropped and a hypothesis
+// on one is a false positive. Hand-worked: person 1 (frames 1, 2) tracked by id 5; confidence-0
+// rows 2 (frames 1, 2, tracked by id 6) and 3 (frame 2, no hypothesis). Boxes coincide, IoU 1.
+//   zero-confidence: GT 2, TP 2, FP 0, FN 0 -> MOTA 1, IDF1 1, HOTA 1.
+//   mot15: GT 2, TP 2, FP 2 (id 6), FN 0 -> MOTA 1 - 2/2 = 0, precision 2/4, IDTP 2 (1 <-> 5),
+//   IDF1 = 2*2 / (2 + 4) = 2/3, IDP 1/2, IDR 1; HOTA at every alpha: DetA = 2 / (2 + 0 + 2) = 1/2,
+//   AssA = 2 / (2 + 0 + 0) = 1 (id 5 is only ever on person 1), HOTA = sqrt(1/2).
+TEST(CmdEvalMot, Mot15RuleScoresHypothesesOnZeroConfidenceRowsAsFalsePositives) {
+  TempDir dir;
+  writeText(dir / "gt.txt",
+            "1,1,10,10,20,40,1,-1,-1,-1\n1,2,100,10,20,40,0,-1,-1,-1\n"
+            "2,1,10,10,20,40,1,-1,-1,-1\n2,2,100,10,20,40,0,-1,-1,-1\n2,3,200,10,20,40,0,-1,-1,-1\n");
+  writeText(dir / "est.txt", "1,5,10,10,20,40,1\n1,6,100,10,20,40,1\n2,5,10,10,20,40,1\n2,6,100,10,20,40,1\n");
+  const std::string files = " --gt " + (dir / "gt.txt").string() + " --est " + (dir / "est.txt").string();
+  std::string log;
+  const std::string regions = (dir / "regions.json").string(), mot15 = (dir / "mot15.json").string();
+  ASSERT_EQ(runAdugs("eval-mot" + files + " --json " + regions, &log), 0) << log;
+  ASSERT_EQ(runAdugs("eval-mot" + files + " --ignore-rule mot15 --json " + mot15, &log), 0) << log;
+  EXPECT_NE(log.find("TrackEval's MOT15"), std::string::npos) << log;
+
+  const std::string r = readText(regions);
+  EXPECT_NE(r.find("\"ignore_rule\": \"zero-confidence\""), std::string::npos) << r;
+  EXPECT_EQ(jsonValue(r, "\"overall\"", "num_objects"), 2.0);
+  EXPECT_EQ(jsonValue(r, "\"overall\"", "num_false_positives"), 0.0);
+  EXPECT_EQ(jsonValue(r, "\"overall\"", "mota"), 1.0);
+  EXPECT_EQ(jsonValue(r, "\"overall\"", "idf1"), 1.0);
+  EXPECT_NEAR(jsonValue(r, "\"overall\"", "hota"), 1.0, 1e-12);
+
+  const std::string m = readText(mot15);
+  EXPECT_NE(m.find("\"ignore_rule\": \"mot15\""), std::string::npos) << m;
+  EXPECT_EQ(jsonValue(m, "\"overall\"", "num_objects"), 2.0);
+  EXPECT_EQ(jsonValue(m, "\"overall\"", "num_matches"), 2.0);
+  EXPECT_EQ(jsonValue(m, "\"overall\"", "num_misses"), 0.0);
+  EXPECT_EQ(jsonValue(m, "\"overall\"", "num_false_positives"), 2.0);
+  EXPECT_EQ(jsonValue(m, "\"overall\"", "num_predictions"), 4.0);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "mota"), 0.0, 1e-12);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "precision"), 0.5, 1e-12);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "idf1"), 2.0 / 3.0, 1e-8);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "idp"), 0.5, 1e-12);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "idr"), 1.0, 1e-12);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "deta"), 0.5, 1e-8);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "assa"), 1.0, 1e-8);
+  EXPECT_NEAR(jsonValue(m, "\"overall\"", "hota"), std::sqrt(0.5), 1e-8);
+
+  EXPECT_NE(runAdugs("eval-mot" + files + " --ignore-rule mot17", &log), 0);
+  EXPECT_NE(log.find("--ignore-rule"), std::string::npos) << log;
 }
 
 }  // namespace
