@@ -419,7 +419,9 @@ void SlidingWindowEstimator::solve() {
   so.max_iterations = options_.max_iterations;
   so.max_time_s = options_.max_solver_time_s;
   const WindowSolverSummary summary = solver.solve(so);
+  ++stats_.solves;
   stats_.solver_iterations += summary.iterations;
+  stats_.solver_successful += summary.successful;
   if (summary.time_limit_hit) ++stats_.solves_cut_by_time;
 
   for (auto& f : frames_) {

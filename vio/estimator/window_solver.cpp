@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "vio/estimator/robust_correction.h"
+#include "vio/estimator/tangent_cost_function.h"
 
 namespace adugs::vio {
 namespace {
@@ -16,6 +17,49 @@ namespace {
 constexpr int kMaxRows = 15, kMaxCols = 9, kMaxBlocksPerResidual = 6;
 
 double clampDiagonal(double d) { return std::clamp(d, 1e-6, 1e32); }  // Ceres' LM bounds
+
+// out (ta x tb, column-major with leading dimension ld) += A^T B for row-major A (rows x ta) and
+// B (rows x tb). The common shapes (2-row reprojections on 6-value poses, 15-row IMU factors)
+// go through fixed-size Eigen products, which compile to unrolled vector code; the blocks are too
+// small for a dynamic-size product to pay its dispatch.
+template <int R, int A, int B>
+void addJtJFixed(const double* a, const double* b, double* out, int ld) {
+  using RowMajorA = Eigen::Matrix<double, R, A, (A == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
+  using RowMajorB = Eigen::Matrix<double, R, B, (B == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
+  Eigen::Map<Eigen::Matrix<double, A, B>, 0, Eigen::OuterStride<>> o(out, A, B,
+                                                                     Eigen::OuterStride<>(ld));
+  o.noalias() += Eigen::Map<const RowMajorA>(a).transpose() * Eigen::Map<const RowMajorB>(b);
+}
+
+void addJtJ(const double* a, int ta, const double* b, int tb, int rows, double* out, int ld) {
+  if (rows == 2) {
+    if (ta == 6 && tb == 6) return addJtJFixed<2, 6, 6>(a, b, out, ld);
+    if (ta == 6 && tb == 1) return addJtJFixed<2, 6, 1>(a, b, out, ld);
+  } else if (rows == 15) {
+    if (ta == 6 && tb == 6) return addJtJFixed<15, 6, 6>(a, b, out, ld);
+    if (ta == 6 && tb == 9) return addJtJFixed<15, 6, 9>(a, b, out, ld);
+    if (ta == 9 && tb == 6) return addJtJFixed<15, 9, 6>(a, b, out, ld);
+    if (ta == 9 && tb == 9) return addJtJFixed<15, 9, 9>(a, b, out, ld);
+    if (ta == 6 && tb == 1) return addJtJFixed<15, 6, 1>(a, b, out, ld);
+    if (ta == 9 && tb == 1) return addJtJFixed<15, 9, 1>(a, b, out, ld);
+  }
+  for (int j = 0; j < tb; ++j)
+    for (int i = 0; i < ta; ++i) {
+      double sum = 0;
+      for (int k = 0; k < rows; ++k) sum += a[k * ta + i] * b[k * tb + j];
+      out[i + j * ld] += sum;
+    }
+}
+
+// Ceres' corrector on a row-major Jacobian: J <- sqrt(rho') (J - alpha/|r|^2 r (r^T J)).
+void correctJacobian(const RobustCorrection& c, const double* r, int rows, int cols, double* J) {
+  double rJ[kMaxCols] = {0};
+  for (int k = 0; k < rows; ++k)
+    for (int i = 0; i < cols; ++i) rJ[i] += r[k] * J[k * cols + i];
+  for (int k = 0; k < rows; ++k)
+    for (int i = 0; i < cols; ++i)
+      J[k * cols + i] = c.sqrt_rho1 * (J[k * cols + i] - c.alpha_sq_norm * r[k] * rJ[i]);
+}
 
 }  // namespace
 
@@ -55,6 +99,7 @@ void WindowSolver::addResidual(const ceres::CostFunction* cost, const ceres::Los
     throw std::invalid_argument("WindowSolver: cost function and blocks do not match");
   Residual r;
   r.cost = cost;
+  r.tangent = dynamic_cast<const TangentCostFunction*>(cost);
   r.loss = loss;
   for (size_t k = 0; k < blocks.size(); ++k) {
     const int b = indexOf(blocks[k]);
@@ -116,23 +161,31 @@ void WindowSolver::prepare() {
     }
     l.dense_blocks.swap(blocks);
     l.coupling_offsets.swap(offsets);
-    l.coupling.resize(l.coupling_size);
+  }
+  int coupling_total = 0;
+  for (Landmark& l : landmarks_) {
+    l.coupling_base = coupling_total;
+    coupling_total += l.coupling_size;
   }
   prior_blocks_.clear();
   if (prior_)
     for (const double* b : prior_->blocks) prior_blocks_.push_back(indexOf(b));
-  H_.resize(dense_size_, dense_size_);
-  g_.resize(dense_size_);
+  for (Linearization* L : {&current_, &candidate_}) {
+    L->H.resize(dense_size_, dense_size_);
+    L->g.resize(dense_size_);
+    L->h.resize(landmarks_.size());
+    L->g_landmark.resize(landmarks_.size());
+    L->coupling.resize(static_cast<size_t>(coupling_total));
+  }
 }
 
-bool WindowSolver::evaluate(bool linearize, double* total_cost) {
+bool WindowSolver::evaluate(bool linearize, Linearization* out) {
   if (linearize) {
-    H_.setZero();
-    g_.setZero();
-    for (Landmark& l : landmarks_) {
-      l.h = l.g = 0;
-      l.coupling.setZero();
-    }
+    out->H.setZero();
+    out->g.setZero();
+    std::fill(out->h.begin(), out->h.end(), 0.0);
+    std::fill(out->g_landmark.begin(), out->g_landmark.end(), 0.0);
+    std::fill(out->coupling.begin(), out->coupling.end(), 0.0);
     for (Block& b : blocks_)
       if (b.offset >= 0 && b.manifold && !b.manifold->PlusJacobian(b.x, b.plus_jacobian.data()))
         return false;
@@ -140,15 +193,12 @@ bool WindowSolver::evaluate(bool linearize, double* total_cost) {
   double cost = 0;
   const double* params[kMaxBlocksPerResidual];
   double* jacobians[kMaxBlocksPerResidual];
-  // Ambient Jacobians as the cost writes them (row-major), then tangent ones (column-major: the
-  // products below are dot products of contiguous columns). Fixed capacity, no allocation; the
-  // blocks are so small (2 x 6 for most) that Eigen's product dispatch would cost more than the
-  // arithmetic.
+  // Tangent Jacobians, row-major rows x tangent, in fixed-capacity buffers (no allocation per
+  // residual). TangentCostFunctions write them directly; other costs write ambient ones, turned
+  // into tangent ones with the manifold's PlusJacobian.
   double J_ambient[kMaxBlocksPerResidual][kMaxRows * kMaxCols];
   double J[kMaxBlocksPerResidual][kMaxRows * kMaxCols];
   double r[kMaxRows];
-  double* H = H_.data();
-  const int ld = dense_size_;
   for (const Residual& res : residuals_) {
     const int rows = res.cost->num_residuals();
     const size_t n = res.blocks.size();
@@ -157,10 +207,13 @@ bool WindowSolver::evaluate(bool linearize, double* total_cost) {
       const Block& b = blocks_[res.blocks[k]];
       params[k] = b.x;
       const bool wanted = linearize && !b.constant;
-      jacobians[k] = wanted ? J_ambient[k] : nullptr;
+      jacobians[k] = !wanted ? nullptr : res.tangent ? J[k] : J_ambient[k];
       any_jacobian = any_jacobian || wanted;
     }
-    if (!res.cost->Evaluate(params, r, any_jacobian ? jacobians : nullptr)) return false;
+    double** jac = any_jacobian ? jacobians : nullptr;
+    if (!(res.tangent ? res.tangent->EvaluateTangent(params, r, jac)
+                      : res.cost->Evaluate(params, r, jac)))
+      return false;
     double sq_norm = 0;
     for (int i = 0; i < rows; ++i) sq_norm += r[i] * r[i];
     if (!std::isfinite(sq_norm)) return false;
@@ -172,36 +225,24 @@ bool WindowSolver::evaluate(bool linearize, double* total_cost) {
       if (!jacobians[k]) continue;
       const Block& b = blocks_[res.blocks[k]];
       double* Jt = J[k];
-      const double* Ja = J_ambient[k];
-      if (b.manifold) {  // J_t = J_ambient * PlusJacobian
-        const double* P = b.plus_jacobian.data();
-        for (int i = 0; i < b.tangent; ++i)
-          for (int row = 0; row < rows; ++row) {
-            double sum = 0;
-            for (int m = 0; m < b.size; ++m) sum += Ja[row * b.size + m] * P[m * b.tangent + i];
-            Jt[row + i * rows] = sum;
-          }
-      } else {
-        for (int i = 0; i < b.tangent; ++i)
-          for (int row = 0; row < rows; ++row) Jt[row + i * rows] = Ja[row * b.size + i];
-      }
-      if (res.loss) {  // J' = sqrt(rho') (J - alpha/|r|^2 r r^T J)
-        for (int i = 0; i < b.tangent; ++i) {
-          double* col = Jt + i * rows;
-          double rj = 0;
-          for (int row = 0; row < rows; ++row) rj += r[row] * col[row];
+      if (!res.tangent) {
+        const double* Ja = J_ambient[k];
+        if (b.manifold) {  // J_t = J_ambient * PlusJacobian
+          const double* P = b.plus_jacobian.data();
           for (int row = 0; row < rows; ++row)
-            col[row] = c.sqrt_rho1 * (col[row] - c.alpha_sq_norm * r[row] * rj);
+            for (int i = 0; i < b.tangent; ++i) {
+              double sum = 0;
+              for (int m = 0; m < b.size; ++m) sum += Ja[row * b.size + m] * P[m * b.tangent + i];
+              Jt[row * b.tangent + i] = sum;
+            }
+        } else {
+          std::copy(Ja, Ja + rows * b.size, Jt);
         }
       }
+      if (res.loss) correctJacobian(c, r, rows, b.tangent, Jt);
     }
     if (res.loss)
       for (int row = 0; row < rows; ++row) r[row] *= c.residual_scaling;
-    auto dot = [rows](const double* a, const double* b) {
-      double sum = 0;
-      for (int row = 0; row < rows; ++row) sum += a[row] * b[row];
-      return sum;
-    };
 
     int l_pos = -1;  // which block is the landmark's (when it is free)
     if (res.landmark >= 0)
@@ -211,27 +252,27 @@ bool WindowSolver::evaluate(bool linearize, double* total_cost) {
     for (size_t a = 0; a < n; ++a) {
       if (!jacobians[a] || static_cast<int>(a) == l_pos) continue;
       const Block& ba = blocks_[res.blocks[a]];
-      for (int i = 0; i < ba.tangent; ++i) g_[ba.offset + i] += dot(J[a] + i * rows, r);
+      addJtJ(J[a], ba.tangent, r, 1, rows, out->g.data() + ba.offset, dense_size_);
       for (size_t bi = 0; bi < n; ++bi) {
         if (!jacobians[bi] || static_cast<int>(bi) == l_pos) continue;
         const Block& bb = blocks_[res.blocks[bi]];
         if (bb.offset < ba.offset) continue;  // upper triangle only
-        for (int j = 0; j < bb.tangent; ++j) {
-          double* column = H + (bb.offset + j) * ld + ba.offset;
-          const double* Jb = J[bi] + j * rows;
-          for (int i = 0; i < ba.tangent; ++i) column[i] += dot(J[a] + i * rows, Jb);
-        }
+        addJtJ(J[a], ba.tangent, J[bi], bb.tangent, rows,
+               out->H.data() + static_cast<Eigen::Index>(bb.offset) * dense_size_ + ba.offset,
+               dense_size_);
       }
     }
     if (l_pos >= 0) {
-      Landmark& l = landmarks_[res.landmark];
-      const double* Jl = J[l_pos];
-      l.h += dot(Jl, Jl);
-      l.g += dot(Jl, r);
+      const Landmark& l = landmarks_[res.landmark];
+      const double* Jl = J[l_pos];  // rows x 1
+      for (int row = 0; row < rows; ++row) {
+        out->h[res.landmark] += Jl[row] * Jl[row];
+        out->g_landmark[res.landmark] += Jl[row] * r[row];
+      }
       for (size_t a = 0; a < n; ++a) {
         if (!jacobians[a] || static_cast<int>(a) == l_pos) continue;
-        double* coupling = l.coupling.data() + res.coupling[a];
-        for (int i = 0; i < blocks_[res.blocks[a]].tangent; ++i) coupling[i] += dot(J[a] + i * rows, Jl);
+        addJtJ(J[a], blocks_[res.blocks[a]].tangent, Jl, 1, rows,
+               out->coupling.data() + l.coupling_base + res.coupling[a], l.coupling_size);
       }
     }
   }
@@ -246,43 +287,45 @@ bool WindowSolver::evaluate(bool linearize, double* total_cost) {
         const Block& ba = blocks_[prior_blocks_[a]];
         if (ba.offset < 0) continue;
         const int pa = prior_->tangent_offsets[a];
-        g_.segment(ba.offset, ba.tangent) += L.gradient.segment(pa, ba.tangent);
+        out->g.segment(ba.offset, ba.tangent) += L.gradient.segment(pa, ba.tangent);
         for (size_t b = 0; b < prior_blocks_.size(); ++b) {
           const Block& bb = blocks_[prior_blocks_[b]];
           if (bb.offset < ba.offset) continue;
-          H_.block(ba.offset, bb.offset, ba.tangent, bb.tangent) +=
+          out->H.block(ba.offset, bb.offset, ba.tangent, bb.tangent) +=
               L.hessian.block(pa, prior_->tangent_offsets[b], ba.tangent, bb.tangent);
         }
       }
     }
   }
-  if (linearize) H_.triangularView<Eigen::StrictlyLower>() = H_.transpose();
-  *total_cost = cost;
+  if (linearize) out->H.triangularView<Eigen::StrictlyLower>() = out->H.transpose();
+  out->cost = cost;
   return std::isfinite(cost);
 }
 
-bool WindowSolver::computeStep(double mu, Eigen::VectorXd* step_dense,
+bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
                                std::vector<double>* step_landmarks, double* model_decrease) const {
   const int n = dense_size_;
-  Eigen::MatrixXd S = H_;
-  Eigen::VectorXd rhs = -g_;
+  Eigen::MatrixXd S = at.H;
+  Eigen::VectorXd rhs = -at.g;
   Eigen::VectorXd damping(n);
-  for (int i = 0; i < n; ++i) damping(i) = clampDiagonal(H_(i, i)) / mu;
+  for (int i = 0; i < n; ++i) damping(i) = clampDiagonal(at.H(i, i)) / mu;
   S.diagonal() += damping;
-  for (const Landmark& l : landmarks_) {
+  for (size_t k = 0; k < landmarks_.size(); ++k) {
+    const Landmark& l = landmarks_[k];
     if (blocks_[l.block].constant) continue;
-    const double inv = 1.0 / (l.h + clampDiagonal(l.h) / mu);
+    const double inv = 1.0 / (at.h[k] + clampDiagonal(at.h[k]) / mu);
+    const double* c = at.coupling.data() + l.coupling_base;
     // S -= c c^T / h over the blocks the landmark meets (upper triangle, column by column).
     for (size_t j = 0; j < l.dense_blocks.size(); ++j) {
       const Block& bj = blocks_[l.dense_blocks[j]];
-      const double* cj = l.coupling.data() + l.coupling_offsets[j];
+      const double* cj = c + l.coupling_offsets[j];
       for (int b = 0; b < bj.tangent; ++b) {
-        rhs[bj.offset + b] += inv * l.g * cj[b];
+        rhs[bj.offset + b] += inv * at.g_landmark[k] * cj[b];
         const double w = inv * cj[b];
         double* column = S.data() + static_cast<Eigen::Index>(bj.offset + b) * n;
         for (size_t i = 0; i <= j; ++i) {
           const Block& bi = blocks_[l.dense_blocks[i]];
-          const double* ci = l.coupling.data() + l.coupling_offsets[i];
+          const double* ci = c + l.coupling_offsets[i];
           const int rows = i == j ? b + 1 : bi.tangent;  // diagonal block: its upper part
           for (int a = 0; a < rows; ++a) column[bi.offset + a] -= w * ci[a];
         }
@@ -293,21 +336,22 @@ bool WindowSolver::computeStep(double mu, Eigen::VectorXd* step_dense,
   if (llt.info() != Eigen::Success) return false;
   *step_dense = llt.solve(rhs);
   if (!step_dense->allFinite()) return false;
-  double decrease = 0.5 * (-g_.dot(*step_dense) + step_dense->dot(damping.cwiseProduct(*step_dense)));
+  double decrease =
+      0.5 * (-at.g.dot(*step_dense) + step_dense->dot(damping.cwiseProduct(*step_dense)));
   step_landmarks->assign(landmarks_.size(), 0.0);
   for (size_t k = 0; k < landmarks_.size(); ++k) {
     const Landmark& l = landmarks_[k];
     if (blocks_[l.block].constant) continue;
-    const double d_l = clampDiagonal(l.h) / mu;
-    double coupled = l.g;
+    const double d_l = clampDiagonal(at.h[k]) / mu;
+    double coupled = at.g_landmark[k];
     for (size_t i = 0; i < l.dense_blocks.size(); ++i) {
       const Block& bi = blocks_[l.dense_blocks[i]];
-      coupled += l.coupling.segment(l.coupling_offsets[i], bi.tangent)
-                     .dot(step_dense->segment(bi.offset, bi.tangent));
+      const double* ci = at.coupling.data() + l.coupling_base + l.coupling_offsets[i];
+      for (int a = 0; a < bi.tangent; ++a) coupled += ci[a] * (*step_dense)[bi.offset + a];
     }
-    const double step = -coupled / (l.h + d_l);
+    const double step = -coupled / (at.h[k] + d_l);
     (*step_landmarks)[k] = step;
-    decrease += 0.5 * (-l.g * step + d_l * step * step);
+    decrease += 0.5 * (-at.g_landmark[k] * step + d_l * step * step);
   }
   *model_decrease = decrease;
   return std::isfinite(decrease);
@@ -342,36 +386,36 @@ WindowSolverSummary WindowSolver::solve(const WindowSolverOptions& options) {
   };
   prepare();
   WindowSolverSummary summary;
-  double cost = 0;
-  if (!evaluate(true, &cost)) return summary;
-  summary.initial_cost = summary.final_cost = cost;
+  if (!evaluate(true, &current_)) return summary;
+  summary.initial_cost = summary.final_cost = current_.cost;
   double mu = options.initial_radius, nu = 2.0;
   Eigen::VectorXd step_dense;
   std::vector<double> step_landmarks;
   while (summary.iterations < options.max_iterations) {
     ++summary.iterations;
-    double model_decrease = 0, new_cost = 0;
+    // The candidate's normal equations are only needed if another step may follow.
+    const bool last = summary.iterations >= options.max_iterations || elapsed() >= options.max_time_s;
+    double model_decrease = 0;
     bool accepted = false;
-    if (computeStep(mu, &step_dense, &step_landmarks, &model_decrease) && model_decrease > 0) {
+    if (computeStep(current_, mu, &step_dense, &step_landmarks, &model_decrease) &&
+        model_decrease > 0) {
       applyStep(step_dense, step_landmarks);
-      if (evaluate(false, &new_cost) && (cost - new_cost) / model_decrease > 1e-3) {
+      if (evaluate(!last, &candidate_) &&
+          (current_.cost - candidate_.cost) / model_decrease > 1e-3) {
         accepted = true;
       } else {
         restore();
       }
     }
     if (accepted) {
-      const double rho = (cost - new_cost) / model_decrease;
-      summary.converged = cost - new_cost <= options.function_tolerance * cost;
-      cost = new_cost;
+      const double rho = (current_.cost - candidate_.cost) / model_decrease;
+      summary.converged =
+          current_.cost - candidate_.cost <= options.function_tolerance * current_.cost;
+      std::swap(current_, candidate_);
       ++summary.successful;
       mu = std::min(mu / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)), 1e16);
       nu = 2.0;
       if (summary.converged) break;
-      if (summary.iterations < options.max_iterations && elapsed() < options.max_time_s &&
-          !evaluate(true, &cost)) {
-        break;  // Jacobians failed at an accepted point: keep it, stop here
-      }
     } else {
       mu = std::max(mu / nu, 1e-32);
       nu *= 2.0;
@@ -381,7 +425,7 @@ WindowSolverSummary WindowSolver::solve(const WindowSolverOptions& options) {
       break;
     }
   }
-  summary.final_cost = cost;
+  summary.final_cost = current_.cost;
   return summary;
 }
 
