@@ -224,7 +224,8 @@ int replay(const std::string& path, const std::string& config, const std::string
   std::vector<double> backend_ms;
   int played = 0;
   for (const Recording::Frame& f : rec.frames) {
-    if (max_frames > 0 && played++ >= max_frames) break;
+    if (max_frames > 0 && played >= max_frames) break;
+    ++played;
     for (const data::ImuSample& s : f.imu) estimator.addImu(s);
     const auto t0 = std::chrono::steady_clock::now();
     const auto state = estimator.addFrame(f.features);
@@ -246,6 +247,9 @@ int replay(const std::string& path, const std::string& config, const std::string
     };
     std::printf("frames %d  keyframes %d  resets %d  outliers rejected %d\n", played,
                 s.keyframes, s.resets, s.outliers_rejected);
+    std::printf("solves %d: %.2f steps tried, %.2f accepted per solve; %d cut by the time limit\n",
+                s.solves, s.solves ? double(s.solver_iterations) / s.solves : 0.0,
+                s.solves ? double(s.solver_successful) / s.solves : 0.0, s.solves_cut_by_time);
     std::printf("back-end per frame  median %.2f  mean %.2f  p90 %.2f ms\n",
                 percentile(backend_ms, 0.5), mean(backend_ms), percentile(backend_ms, 0.9));
     std::printf("solve               median %.2f  mean %.2f  p90 %.2f ms\n",
