@@ -48,7 +48,7 @@ void registerSimCommand(CLI::App& root) {
       "sim", "Generate synthetic dynamic-scene sequences with ground truth (EuRoC ASL + masks + MOT)");
   cmd->add_option("--out", a->out, "output folder (gets mav0/; with --level all, one folder per level)")
       ->required();
-  cmd->add_option("--scene", o.scene, "world: room or street")->capture_default_str();
+  cmd->add_option("--scene", o.scene, "world: room, street or courtyard (open square: far walls, low texture)")->capture_default_str();
   cmd->add_option("--motion", o.motion,
                   "how the rig moves: glide (smooth, vehicle-like) or handheld (walking: step bob and sway)")
       ->capture_default_str();

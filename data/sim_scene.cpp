@@ -199,6 +199,91 @@ void buildStreet(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d
   }
 }
 
+
+// Contrast of an 8-bit texture scaled about its mean (plaster and paving seen from afar: few
+// corners, weak gradients).
+cv::Mat fadeContrast(const cv::Mat& u8, double factor) {
+  const double mean = cv::mean(u8)[0];
+  cv::Mat out;
+  u8.convertTo(out, CV_8U, factor, mean * (1.0 - factor));
+  return out;
+}
+
+// An open square between buildings, a scene no option of the estimator was tuned on: the walls
+// stand 10-16 m beyond the path on every side (small parallax, depths of 10-30 m), the ground is
+// large low-contrast paving, the buildings are faint plaster with rows of identical windows
+// (repeated texture), the sky fills the upper part of the view, and a few benches, planters, lamp
+// posts and a fountain basin give the only close texture.
+void buildCourtyard(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d>& path) {
+  const Eigen::AlignedBox3d b = pathBounds(path);
+  const double x0 = b.min().x() - rng.uniform(10, 16), x1 = b.max().x() + rng.uniform(10, 16);
+  const double y0 = b.min().y() - rng.uniform(10, 16), y1 = b.max().y() + rng.uniform(10, 16);
+  const double z0 = std::min(0.0, b.min().z() - 1.4);
+  scene.floor_z = z0;
+  scene.background = 225.0f;  // overcast sky
+
+  const int paving = scene.addTexture(
+      fadeContrast(makeTexture(SimTextureKind::kTiles, kStaticTextureSize, rng), 0.3));
+  std::vector<int> walls;
+  for (int i = 0; i < 2; ++i)
+    walls.push_back(scene.addTexture(
+        fadeContrast(makeTexture(SimTextureKind::kFacade, kStaticTextureSize, rng), 0.6)));
+  const int plaster = scene.addTexture(
+      fadeContrast(makeTexture(SimTextureKind::kNoise, kStaticTextureSize, rng), 0.35));
+  walls.push_back(plaster);
+  const int stone = scene.addTexture(
+      fadeContrast(makeTexture(SimTextureKind::kBricks, kStaticTextureSize, rng), 0.5));
+  const int posters = scene.addTexture(makeTexture(SimTextureKind::kPosters, kStaticTextureSize, rng));
+
+  const Eigen::Vector3d c((x0 + x1) / 2, (y0 + y1) / 2, 0);
+  scene.static_quads.push_back(makeFacingQuad({c.x(), c.y(), z0}, kUp, Eigen::Vector3d::UnitX(),
+                                              x1 - x0, y1 - y0, paving, 40));  // 12.8 m slabs tile
+  // Buildings of 9-15 m around the square, facade panels 6-12 m wide.
+  const double h = rng.uniform(9.0, 15.0);
+  auto building = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& n) {
+    const Eigen::Vector3d along = (p1 - p0).normalized();
+    const double length = (p1 - p0).norm();
+    for (double pos = 0; pos < length - 1e-9;) {
+      const double w = std::min(length - pos, rng.uniform(6.0, 12.0));
+      const Eigen::Vector3d mid = p0 + along * (pos + w / 2);
+      const int tex = walls[static_cast<size_t>(rng.uniformInt(0, static_cast<int>(walls.size()) - 1))];
+      scene.static_quads.push_back(
+          makeFacingQuad({mid.x(), mid.y(), z0 + h / 2}, n, kUp, w, h, tex, 48));
+      pos += w;
+    }
+  };
+  building({x0, y0, 0}, {x1, y0, 0}, Eigen::Vector3d::UnitY());
+  building({x1, y0, 0}, {x1, y1, 0}, -Eigen::Vector3d::UnitX());
+  building({x1, y1, 0}, {x0, y1, 0}, -Eigen::Vector3d::UnitY());
+  building({x0, y1, 0}, {x0, y0, 0}, Eigen::Vector3d::UnitX());
+  // One notice board per side at eye level: the only rich texture, and far away.
+  const Eigen::Vector3d normals[4] = {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(-1, 0, 0),
+                                      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 0, 0)};
+  for (const Eigen::Vector3d& n : normals) {
+    const double u = rng.uniform(0.25, 0.75);
+    // On the wall whose inward normal is n, u of the way along it.
+    const Eigen::Vector3d at(n.x() != 0 ? (n.x() > 0 ? x0 : x1) + 0.02 * n.x() : x0 + u * (x1 - x0),
+                             n.y() != 0 ? (n.y() > 0 ? y0 : y1) + 0.02 * n.y() : y0 + u * (y1 - y0),
+                             z0 + 1.8);
+    scene.static_quads.push_back(makeFacingQuad(at, n, kUp, 3.0, 2.0, posters, 120));
+  }
+  // Street furniture away from the path: benches, planters, lamp posts, a fountain basin.
+  bool fountain = false;
+  int placed = 0;
+  for (int attempt = 0; attempt < 400 && placed < 14; ++attempt) {
+    const int kind = fountain ? rng.uniformInt(0, 2) : 3;
+    const Eigen::Vector3d size = kind == 0   ? Eigen::Vector3d(1.8, 0.5, 0.45)   // bench
+                                 : kind == 1 ? Eigen::Vector3d(1.0, 1.0, 0.8)    // planter
+                                 : kind == 2 ? Eigen::Vector3d(0.15, 0.15, 4.5)  // lamp post
+                                             : Eigen::Vector3d(3.0, 3.0, 0.6);   // fountain
+    const Eigen::Vector3d at(rng.uniform(x0 + 2, x1 - 2), rng.uniform(y0 + 2, y1 - 2), z0);
+    if (tryAddStaticBox(scene, path, at, size, kind == 2 ? plaster : stone, 1.5, 150)) {
+      ++placed;
+      fountain = true;
+    }
+  }
+}
+
 }  // namespace
 
 const char* toString(SimLevel level) {
@@ -306,12 +391,12 @@ bool SimObject::poseAt(int64_t t_ns, Eigen::Isometry3d* T_W_O) const {
   return true;
 }
 
-std::vector<std::string> simSceneNames() { return {"room", "street"}; }
+std::vector<std::string> simSceneNames() { return {"room", "street", "courtyard"}; }
 
 void checkSimSceneName(const std::string& name) {
   for (const std::string& n : simSceneNames())
     if (n == name) return;
-  throw InputError("command line", 0, "--scene", "unknown scene '" + name + "' (use room or street)");
+  throw InputError("command line", 0, "--scene", "unknown scene '" + name + "' (use room, street or courtyard)");
 }
 
 Eigen::Isometry3d defaultSimT_B_C() {
@@ -350,6 +435,13 @@ SineTrajectory makeSceneTrajectory(const std::string& scene, uint64_t seed, int6
     ch[SineTrajectory::kYaw] = {ph(), vary(0.22), {{0.6, vary(0.3), ph()}, {0.1, vary(1.1), ph()}}};
     ch[SineTrajectory::kPitch] = {0.0, 0.0, {{0.08, vary(0.7), ph()}, {0.03, vary(2.1), ph()}}};
     ch[SineTrajectory::kRoll] = {0.0, 0.0, {{0.06, vary(0.9), ph()}, {0.02, vary(2.5), ph()}}};
+  } else if (scene == "courtyard") {  // wandering across an open square, turning to look around
+    ch[SineTrajectory::kX] = {0.0, 0.0, {{vary(5.0), vary(0.13), ph()}, {0.4, vary(0.5), ph()}}};
+    ch[SineTrajectory::kY] = {0.0, 0.0, {{vary(3.5), vary(0.11), ph()}, {0.3, vary(0.6), ph()}}};
+    ch[SineTrajectory::kZ] = {1.5, 0.0, {{0.1, vary(0.45), ph()}, {0.03, vary(1.5), ph()}}};
+    ch[SineTrajectory::kYaw] = {ph(), vary(0.15), {{0.5, vary(0.25), ph()}, {0.1, vary(0.9), ph()}}};
+    ch[SineTrajectory::kPitch] = {0.0, 0.0, {{0.06, vary(0.6), ph()}, {0.02, vary(2.0), ph()}}};
+    ch[SineTrajectory::kRoll] = {0.0, 0.0, {{0.04, vary(0.8), ph()}, {0.015, vary(2.4), ph()}}};
   } else {  // street: back and forth along the street, looking down it and at the facades
     ch[SineTrajectory::kX] = {0.0, 0.0, {{vary(18.0), vary(0.1), ph()}, {0.5, vary(0.7), ph()}}};
     ch[SineTrajectory::kY] = {0.0, 0.0, {{0.8, vary(0.23), ph()}, {0.2, vary(0.9), ph()}}};
@@ -362,9 +454,11 @@ SineTrajectory makeSceneTrajectory(const std::string& scene, uint64_t seed, int6
     const double step = vary(11.0);  // rad/s: 1.75 steps per second
     const double sway_phase = ph();
     ch[SineTrajectory::kZ].terms.push_back({0.02, step, ph()});
-    // Sideways sway at half the step rate; the room path turns all the time, so both axes.
+    // Sideways sway at half the step rate; the room and courtyard paths turn all the time, so
+    // both axes there.
     ch[SineTrajectory::kY].terms.push_back({0.015, step / 2, sway_phase});
-    if (scene == "room") ch[SineTrajectory::kX].terms.push_back({0.015, step / 2, sway_phase + M_PI / 2});
+    if (scene != "street")
+      ch[SineTrajectory::kX].terms.push_back({0.015, step / 2, sway_phase + M_PI / 2});
     ch[SineTrajectory::kPitch].terms.push_back({0.015, step, ph()});
     ch[SineTrajectory::kRoll].terms.push_back({0.012, step / 2, ph()});
     ch[SineTrajectory::kYaw].terms.push_back({0.01, step / 2, ph()});
@@ -380,8 +474,10 @@ SimScene buildStaticScene(const std::string& scene, uint64_t seed, const SimTraj
   const std::vector<Eigen::Vector3d> path = samplePath(body_path);
   if (scene == "room")
     buildRoom(out, rng, path);
-  else
+  else if (scene == "street")
     buildStreet(out, rng, path);
+  else
+    buildCourtyard(out, rng, path);
   return out;
 }
 

@@ -217,7 +217,7 @@ TEST(SimSequence, SimulatesTheGivenImuNoiseFigures) {
 // "handheld" walks the same glide path with the rig in hand: it stays within a few centimetres
 // of the glide path but accelerates an order of magnitude more (the step bob).
 TEST(SimSceneTrajectory, HandheldAddsStepBobToTheSameGlidePath) {
-  for (const std::string scene : {"room", "street"}) {
+  for (const std::string scene : {"room", "street", "courtyard"}) {
     const int64_t t0 = kSimDefaultStartNs, t1 = t0 + secToNs(20);
     const SineTrajectory glide = makeSceneTrajectory(scene, 4, t0, t1);
     const SineTrajectory hand = makeSceneTrajectory(scene, 4, t0, t1, "handheld");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <ceres/problem.h>
+#include <ceres/sized_cost_function.h>
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
@@ -126,6 +127,21 @@ class SkewedFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1> {
   const ReprojectionFactor& inner_;
 };
 
+// Skews the tangent Jacobian of pose_i (the one the window solver uses).
+class SkewedTangentFactor : public TangentCostFunction {
+ public:
+  explicit SkewedTangentFactor(const ReprojectionFactor& inner)
+      : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1}), inner_(inner) {}
+  bool EvaluateTangent(double const* const* p, double* r, double** J) const override {
+    inner_.EvaluateTangent(p, r, J);
+    if (J && J[0]) J[0][4] *= 1.001;
+    return true;
+  }
+
+ private:
+  const ReprojectionFactor& inner_;
+};
+
 TEST(ReprojectionFactor, JacobianCheckerCatchesWrongJacobian) {
   const PoseManifold pm;
   Rig s = makeRig();
@@ -136,6 +152,14 @@ TEST(ReprojectionFactor, JacobianCheckerCatchesWrongJacobian) {
   const auto result = testing::checkJacobians(
       bad, {s.pose_i.data(), s.pose_j.data(), s.T_B_C.data(), &lambda}, {&pm, &pm, &pm, nullptr});
   EXPECT_FALSE(result.ok);
+  const SkewedTangentFactor bad_tangent(good);
+  const auto tangent_result = testing::checkJacobians(
+      bad_tangent, {s.pose_i.data(), s.pose_j.data(), s.T_B_C.data(), &lambda},
+      {&pm, &pm, &pm, nullptr});
+  EXPECT_FALSE(tangent_result.ok);
+  EXPECT_TRUE(testing::checkJacobians(good, {s.pose_i.data(), s.pose_j.data(), s.T_B_C.data(), &lambda},
+                                      {&pm, &pm, &pm, nullptr})
+                  .ok);
 }
 
 TEST(ReprojectionFactor, SolveRecoversInverseDepthsWithPosesFixed) {

@@ -8,14 +8,15 @@
 namespace adugs::vio {
 
 ImuFactor::ImuFactor(std::shared_ptr<const ImuPreintegration> preintegration)
-    : preintegration_(std::move(preintegration)) {
+    : TangentCostFunction(15, {kPoseSize, kSpeedBiasSize, kPoseSize, kSpeedBiasSize}),
+      preintegration_(std::move(preintegration)) {
   if (!preintegration_ || preintegration_->samples().size() < 2)
     throw std::invalid_argument("ImuFactor: preintegration needs at least two samples");
   sqrt_information_ = preintegration_->sqrtInformation();
 }
 
-bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
-                         double** jacobians) const {
+bool ImuFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                double** jacobians) const {
   const Eigen::Vector3d p_i = posePosition(parameters[0]);
   const Eigen::Quaterniond q_i = poseRotation(parameters[0]);
   Eigen::Map<const Eigen::Matrix<double, 9, 1>> sb_i(parameters[1]);
@@ -49,7 +50,8 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
     J.block<3, 3>(kStateP, 3) = skew(Ri_T * (p_j - p_i - v_i * T - 0.5 * g * T * T));
     J.block<3, 3>(kStateQ, 3) = -A * dq_corr.toRotationMatrix().transpose();
     J.block<3, 3>(kStateV, 3) = skew(Ri_T * (v_j - v_i - g * T));
-    liftPoseJacobian<15>(sqrt_information_ * J, q_i, jacobians[0]);
+    Eigen::Map<Eigen::Matrix<double, 15, 6, Eigen::RowMajor>> J_out(jacobians[0]);
+    J_out = sqrt_information_ * J;
   }
   if (jacobians[1]) {
     Eigen::Matrix<double, 15, 9> J = Eigen::Matrix<double, 15, 9>::Zero();
@@ -69,7 +71,8 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
     Eigen::Matrix<double, 15, 6> J = Eigen::Matrix<double, 15, 6>::Zero();
     J.block<3, 3>(kStateP, 0) = Ri_T;
     J.block<3, 3>(kStateQ, 3) = B;
-    liftPoseJacobian<15>(sqrt_information_ * J, q_j, jacobians[2]);
+    Eigen::Map<Eigen::Matrix<double, 15, 6, Eigen::RowMajor>> J_out(jacobians[2]);
+    J_out = sqrt_information_ * J;
   }
   if (jacobians[3]) {
     Eigen::Matrix<double, 15, 9> J = Eigen::Matrix<double, 15, 9>::Zero();

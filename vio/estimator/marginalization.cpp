@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "vio/estimator/pose_manifold.h"
+#include "vio/estimator/robust_correction.h"
 #include "vio/imu/so3.h"
 
 namespace adugs::vio {
@@ -88,6 +89,20 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
       list.push_back({b, size, tangentSizeOf(manifold, size), 0, manifold});
     }
   }
+  // The previous prior takes part like a residual block: if it touches a marginalised block.
+  const bool use_prior =
+      prior_ && std::any_of(prior_->blocks.begin(), prior_->blocks.end(),
+                            [&](const double* b) { return is_marginalized.count(b) > 0; });
+  if (use_prior) {
+    for (size_t k = 0; k < prior_->blocks.size(); ++k) {
+      double* b = prior_->blocks[k];
+      if (where.count(b) || is_constant.count(b)) continue;
+      const bool m = is_marginalized.count(b) > 0;
+      auto& list = m ? marg : kept;
+      where[b] = {m, list.size()};
+      list.push_back({b, prior_->sizes[k], prior_->tangent_sizes[k], 0, prior_->manifolds[k]});
+    }
+  }
   if (kept.empty()) throw std::invalid_argument("Marginalizer: no kept block");
   int n_marg = 0, n_total = 0;
   for (Block& b : marg) b.offset = n_marg, n_marg += b.tangent;
@@ -125,20 +140,10 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
       if (blocks[k]) J[k] = toTangent(J_amb[k], blocks[k]->manifold, res->blocks[k]);
 
     if (res->loss) {
-      // Ceres' Corrector: scale r and J so that the Gauss-Newton model matches rho's curvature.
-      const double sq_norm = r.squaredNorm();
-      double rho[3];
-      res->loss->Evaluate(sq_norm, rho);
-      const double sqrt_rho1 = std::sqrt(rho[1]);
-      double residual_scaling = sqrt_rho1, alpha_sq_norm = 0.0;
-      if (sq_norm > 0.0 && rho[2] > 0.0) {
-        const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * sq_norm * rho[2] / rho[1]);
-        residual_scaling = sqrt_rho1 / (1.0 - alpha);
-        alpha_sq_norm = alpha / sq_norm;
-      }
+      const RobustCorrection c = robustCorrection(res->loss, r.squaredNorm());
       for (size_t k = 0; k < n_blocks; ++k)
-        if (blocks[k]) J[k] = sqrt_rho1 * (J[k] - alpha_sq_norm * r * (r.transpose() * J[k]));
-      r *= residual_scaling;
+        if (blocks[k]) J[k] = c.sqrt_rho1 * (J[k] - c.alpha_sq_norm * r * (r.transpose() * J[k]));
+      r *= c.residual_scaling;
     }
     for (size_t a = 0; a < n_blocks; ++a) {
       if (!blocks[a]) continue;
@@ -148,6 +153,25 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
         if (!blocks[b]) continue;
         const Block& bb = *blocks[b];
         H.block(ba.offset, bb.offset, ba.tangent, bb.tangent).noalias() += J[a].transpose() * J[b];
+      }
+    }
+  }
+
+  if (use_prior) {
+    std::vector<const double*> x(prior_->blocks.begin(), prior_->blocks.end());
+    const PriorLinearization L = linearizePrior(*prior_, x, true);
+    for (size_t a = 0; a < prior_->blocks.size(); ++a) {
+      const auto wa = where.find(prior_->blocks[a]);
+      if (wa == where.end()) continue;  // constant
+      const Block& ba = wa->second.first ? marg[wa->second.second] : kept[wa->second.second];
+      const int oa = prior_->tangent_offsets[a];
+      g.segment(ba.offset, ba.tangent) += L.gradient.segment(oa, ba.tangent);
+      for (size_t b = 0; b < prior_->blocks.size(); ++b) {
+        const auto wb = where.find(prior_->blocks[b]);
+        if (wb == where.end()) continue;
+        const Block& bb = wb->second.first ? marg[wb->second.second] : kept[wb->second.second];
+        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent) +=
+            L.hessian.block(oa, prior_->tangent_offsets[b], ba.tangent, bb.tangent);
       }
     }
   }
@@ -230,6 +254,16 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     prior->J.row(static_cast<int>(i)) = std::sqrt(s) * v.transpose();
     prior->r(static_cast<int>(i)) = v.dot(g_star) / std::sqrt(s);
   }
+  // Information form of the same quadratic: H* and g* without the dropped eigen-directions.
+  prior->H = H_star;
+  prior->b = g_star;
+  prior->c = prior->r.squaredNorm();
+  for (int k = 0; k < n_kept; ++k) {
+    if (es.eigenvalues()(k) > eigenvalue_floor) continue;
+    const Eigen::VectorXd v = es.eigenvectors().col(k);
+    prior->H.noalias() -= es.eigenvalues()(k) * v * v.transpose();
+    prior->b -= v.dot(g_star) * v;
+  }
   for (const Block& b : kept) {
     prior->blocks.push_back(b.address);
     prior->sizes.push_back(b.size);
@@ -266,6 +300,38 @@ Eigen::MatrixXd minusJacobianAt(const ceres::Manifold* manifold, int size, const
     D.col(k) = (yp - ym) / (2.0 * kStep);
   }
   return D;
+}
+
+PriorLinearization linearizePrior(const MarginalizationPrior& p, const std::vector<const double*>& x,
+                                  bool with_hessian) {
+  const int n = p.tangentSize();
+  Eigen::VectorXd m(n);
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    double* out = m.data() + p.tangent_offsets[k];
+    if (p.manifolds[k]) {
+      if (!p.manifolds[k]->Minus(x[k], p.x0[k].data(), out))
+        throw std::invalid_argument("linearizePrior: Minus failed");
+    } else {
+      for (int i = 0; i < p.sizes[k]; ++i) out[i] = x[k][i] - p.x0[k][i];
+    }
+  }
+  PriorLinearization L;
+  const Eigen::VectorXd Hm = p.H * m;
+  L.cost = 0.5 * (p.c + 2.0 * p.b.dot(m) + m.dot(Hm));
+  L.gradient = p.b + Hm;
+  if (with_hessian) L.hessian = p.H;
+  // Chain rule through Minus: only the manifold blocks have D != I.
+  for (size_t k = 0; k < p.blocks.size(); ++k) {
+    if (!p.manifolds[k]) continue;
+    const int o = p.tangent_offsets[k], t = p.tangent_sizes[k];
+    const Eigen::MatrixXd D = minusJacobianAt(p.manifolds[k], p.sizes[k], x[k], p.x0[k].data());
+    L.gradient.segment(o, t) = D.transpose() * L.gradient.segment(o, t);
+    if (with_hessian) {
+      L.hessian.middleRows(o, t) = (D.transpose() * L.hessian.middleRows(o, t)).eval();
+      L.hessian.middleCols(o, t) = (L.hessian.middleCols(o, t) * D).eval();
+    }
+  }
+  return L;
 }
 
 MarginalizationFactor::MarginalizationFactor(std::shared_ptr<const MarginalizationPrior> prior)

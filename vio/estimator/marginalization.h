@@ -7,8 +7,11 @@
 //        H* = H_kk - H_km H_mm^+ H_mk,  g* = g_k - H_km H_mm^+ g_m.
 //   4. H* = V S V^T with eigenvalues below a floor dropped: J_p = S^1/2 V^T, r_p = S^-1/2 V^T g*,
 //      so that |r_p + J_p dx|^2 = dx^T H* dx + 2 g*^T dx + const.
-// MarginalizationFactor turns the prior into a Ceres cost: r = r_p + J_p (x [-] x0), with [-] the
-// blocks' manifold Minus (poses: PoseManifold).
+// The prior is kept in both forms: the residual r = r_p + J_p (x [-] x0) (MarginalizationFactor,
+// a Ceres cost; [-] the blocks' manifold Minus, poses: PoseManifold) and the information form
+// H = J_p^T J_p, b = J_p^T r_p, c = |r_p|^2 that the window solver and the next marginalisation
+// use directly (linearizePrior): a dense residual of rank rows would cost rank x n^2 per
+// linearisation, the information form n^2.
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
@@ -29,9 +32,25 @@ struct MarginalizationPrior {
   std::vector<std::vector<double>> x0;
   Eigen::MatrixXd J;  // rank x tangent size
   Eigen::VectorXd r;  // rank
+  // Information form of the same cost: |r_p + J_p m|^2 = c + 2 b^T m + m^T H m.
+  Eigen::MatrixXd H;  // tangent x tangent
+  Eigen::VectorXd b;  // tangent
+  double c = 0;
 
   int tangentSize() const { return static_cast<int>(J.cols()); }
 };
+
+// The prior at the current values x of its blocks (x[k] for prior.blocks[k]): with m = x [-] x0
+// and D = d m / d delta (block diagonal, minusJacobianAt), the cost |r|^2 / 2 = (c + 2 b^T m +
+// m^T H m) / 2, its gradient D^T (b + H m) and Gauss-Newton Hessian D^T H D in the blocks' tangent
+// spaces (the prior's tangent layout).
+struct PriorLinearization {
+  double cost = 0;           // |r|^2 / 2
+  Eigen::VectorXd gradient;  // tangent
+  Eigen::MatrixXd hessian;   // tangent x tangent (empty unless asked for)
+};
+PriorLinearization linearizePrior(const MarginalizationPrior& prior,
+                                  const std::vector<const double*>& x, bool with_hessian);
 
 class Marginalizer {
  public:
@@ -43,6 +62,9 @@ class Marginalizer {
   // Cost and loss (loss may be null) are not owned and must stay alive until marginalize().
   void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                         std::vector<double*> blocks);
+  // The previous prior, linearised in its information form (not as a dense residual). Like a
+  // residual block, it takes part only if it touches a marginalised block.
+  void addPrior(std::shared_ptr<const MarginalizationPrior> prior) { prior_ = std::move(prior); }
   // Linearises at the current block values and Schur-complements `marginalized` out.
   // Throws std::invalid_argument if nothing is kept, a cost fails, or the prior is empty.
   std::shared_ptr<const MarginalizationPrior> marginalize(
@@ -57,6 +79,7 @@ class Marginalizer {
   std::vector<Residual> residuals_;
   std::vector<std::pair<const double*, const ceres::Manifold*>> manifolds_;
   std::vector<const double*> constant_;
+  std::shared_ptr<const MarginalizationPrior> prior_;
   const ceres::Manifold* manifoldOf(const double* block) const;
 };
 

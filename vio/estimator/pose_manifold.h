@@ -3,10 +3,10 @@
 // coefficient order), T_W_B = (q, p). Tangent delta = [dp(3), dtheta(3)]:
 //   Plus(x, delta) = [p + dp, q * Exp(dtheta)]      (right perturbation of the rotation)
 //   Minus(y, x)    = [p_y - p_x, Log(q_x^-1 q_y)]
-// Factors compute their Jacobians in this tangent space and hand Ceres ambient Jacobians
-// J_ambient = J_tangent * liftJacobian(q) with liftJacobian * PlusJacobian = I, so that Ceres'
-// product J_ambient * PlusJacobian gives back exactly J_tangent (and the factors stay correct
-// with any manifold whose Plus has the same tangent, unlike the [I; 0] shortcut).
+// Factors compute their Jacobians in this tangent space (tangent_cost_function.h) and hand Ceres
+// ambient Jacobians J_ambient = J_tangent * quaternionLiftJacobian(q), lift * PlusJacobian = I,
+// so that Ceres' product J_ambient * PlusJacobian gives back exactly J_tangent (and the factors
+// stay correct with any manifold whose Plus has the same tangent, unlike the [I; 0] shortcut).
 #include <ceres/manifold.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -31,16 +31,6 @@ Eigen::Matrix<double, 3, 4> quaternionLiftJacobian(const Eigen::Quaterniond& q);
 
 // d (q * Exp(dtheta)) / d dtheta (4x3, rows x y z w) at dtheta = 0.
 Eigen::Matrix<double, 4, 3> quaternionPlusJacobian(const Eigen::Quaterniond& q);
-
-// Writes the ambient Jacobian (rows x 7, row-major, as Ceres wants it) of a pose block from its
-// tangent Jacobian (rows x 6: columns dp then dtheta).
-template <int Rows>
-void liftPoseJacobian(const Eigen::Matrix<double, Rows, 6>& J_tangent, const Eigen::Quaterniond& q,
-                      double* jacobian_ambient) {
-  Eigen::Map<Eigen::Matrix<double, Rows, 7, Eigen::RowMajor>> J(jacobian_ambient);
-  J.template leftCols<3>() = J_tangent.template leftCols<3>();
-  J.template rightCols<4>() = J_tangent.template rightCols<3>() * quaternionLiftJacobian(q);
-}
 
 // Views of a pose block.
 inline Eigen::Map<const Eigen::Vector3d> posePosition(const double* x) {

@@ -7,13 +7,14 @@ namespace adugs::vio {
 
 PosePriorFactor::PosePriorFactor(const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0,
                                  double sigma_p_m, double sigma_theta_rad)
-    : p0_(p0),
+    : TangentCostFunction(6, {kPoseSize}),
+      p0_(p0),
       q0_(q0.normalized()),
       inv_sigma_p_(1.0 / sigma_p_m),
       inv_sigma_theta_(1.0 / sigma_theta_rad) {}
 
-bool PosePriorFactor::Evaluate(double const* const* parameters, double* residuals,
-                               double** jacobians) const {
+bool PosePriorFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                      double** jacobians) const {
   const Eigen::Vector3d p = posePosition(parameters[0]);
   const Eigen::Quaterniond q = poseRotation(parameters[0]);
   const Eigen::Vector3d phi = quaternionLog(q0_.conjugate() * q);
@@ -25,7 +26,8 @@ bool PosePriorFactor::Evaluate(double const* const* parameters, double* residual
     Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
     J.topLeftCorner<3, 3>() = inv_sigma_p_ * Eigen::Matrix3d::Identity();
     J.bottomRightCorner<3, 3>() = inv_sigma_theta_ * rightJacobianInverse(phi);
-    liftPoseJacobian<6>(J, q, jacobians[0]);
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> J_out(jacobians[0]);
+    J_out = J;
   }
   return true;
 }

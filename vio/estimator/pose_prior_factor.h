@@ -4,19 +4,19 @@
 // Holds the online camera-IMU extrinsic near its calibrated value while the window's motion does
 // not make it observable (VINS-Mono leaves it free and relies on excitation; a weak prior keeps
 // a short or rotation-poor window from dragging it away).
-#include <ceres/sized_cost_function.h>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "vio/estimator/tangent_cost_function.h"
+
 namespace adugs::vio {
 
-class PosePriorFactor : public ceres::SizedCostFunction<6, 7> {
+class PosePriorFactor : public TangentCostFunction {
  public:
   PosePriorFactor(const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0, double sigma_p_m,
                   double sigma_theta_rad);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** jacobians) const override;
 
  private:
   Eigen::Vector3d p0_;

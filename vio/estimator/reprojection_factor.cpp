@@ -9,7 +9,8 @@ namespace adugs::vio {
 
 namespace {
 
-// Residual and Jacobians shared by both factors. jacobians[0..3]: pose_i, pose_j, T_B_C, lambda.
+// Residual and tangent Jacobians shared by both factors. jacobians[0..3]: pose_i, pose_j, T_B_C
+// (2 x 6 row-major, [dp, dtheta]), lambda (2 x 1).
 // d_pt_i (optional): d r / d pt_i (2x2), for the time-offset chain rule.
 void evaluateTwoFrame(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j, double s,
                       double const* const* parameters, double* residuals, double** jacobians,
@@ -42,19 +43,22 @@ void evaluateTwoFrame(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j, 
     Eigen::Matrix<double, 3, 6> J;
     J.leftCols<3>() = R_cb_wj;
     J.rightCols<3>() = -R_cb_wj * R_i * skew(p_bi);
-    liftPoseJacobian<2>(J_proj * J, q_i, jacobians[0]);
+    Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[0]);
+    J_out = J_proj * J;
   }
   if (jacobians && jacobians[1]) {
     Eigen::Matrix<double, 3, 6> J;
     J.leftCols<3>() = -R_cb_wj;
     J.rightCols<3>() = R_ic.transpose() * skew(p_bj);
-    liftPoseJacobian<2>(J_proj * J, q_j, jacobians[1]);
+    Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[1]);
+    J_out = J_proj * J;
   }
   if (jacobians && jacobians[2]) {
     Eigen::Matrix<double, 3, 6> J;
     J.leftCols<3>() = R_cb_wj * R_i - R_ic.transpose();
     J.rightCols<3>() = skew(p_cj) - R_cj_ci * skew(p_ci);
-    liftPoseJacobian<2>(J_proj * J, q_ic, jacobians[2]);
+    Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[2]);
+    J_out = J_proj * J;
   }
   if (jacobians && jacobians[3]) {
     Eigen::Map<Eigen::Vector2d> J_out(jacobians[3]);
@@ -67,10 +71,11 @@ void evaluateTwoFrame(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j, 
 
 ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                                        double sqrt_information)
-    : pt_i_(pt_i), pt_j_(pt_j), sqrt_information_(sqrt_information) {}
+    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1}),
+      pt_i_(pt_i), pt_j_(pt_j), sqrt_information_(sqrt_information) {}
 
-bool ReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
-                                  double** jacobians) const {
+bool ReprojectionFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                         double** jacobians) const {
   evaluateTwoFrame(pt_i_, pt_j_, sqrt_information_, parameters, residuals, jacobians, nullptr);
   return true;
 }
@@ -79,7 +84,8 @@ ReprojectionTdFactor::ReprojectionTdFactor(const Eigen::Vector2d& pt_i, const Ei
                                            const Eigen::Vector2d& vel_i,
                                            const Eigen::Vector2d& vel_j, double td_i, double td_j,
                                            double sqrt_information)
-    : pt_i_(pt_i),
+    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1, 1}),
+      pt_i_(pt_i),
       pt_j_(pt_j),
       vel_i_(vel_i),
       vel_j_(vel_j),
@@ -87,8 +93,8 @@ ReprojectionTdFactor::ReprojectionTdFactor(const Eigen::Vector2d& pt_i, const Ei
       td_j_(td_j),
       sqrt_information_(sqrt_information) {}
 
-bool ReprojectionTdFactor::Evaluate(double const* const* parameters, double* residuals,
-                                    double** jacobians) const {
+bool ReprojectionTdFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                           double** jacobians) const {
   const double td = parameters[4][0];
   const Eigen::Vector2d pt_i = pt_i_ - (td - td_i_) * vel_i_;
   const Eigen::Vector2d pt_j = pt_j_ - (td - td_j_) * vel_j_;

@@ -7,9 +7,11 @@
 //   r = s * (p_Cj.xy / p_Cj.z - pt_j),   s = focal_px / pixel_sigma (sqrt information).
 // Parameter blocks: pose_i, pose_j, T_B_C (all [p, q x y z w], PoseManifold), lambda (1)
 // [, td (1): camera-IMU time offset in seconds, t_imu = t_cam + td].
-// Analytic Jacobians; behind-camera points are not rejected here (the estimator's job).
-#include <ceres/sized_cost_function.h>
+// Analytic Jacobians in the blocks' tangent spaces (tangent_cost_function.h); behind-camera points
+// are not rejected here (the estimator's job).
 #include <Eigen/Core>
+
+#include "vio/estimator/tangent_cost_function.h"
 
 namespace adugs::vio {
 
@@ -18,12 +20,12 @@ inline double reprojectionSqrtInformation(double focal_px, double pixel_sigma = 
   return focal_px / pixel_sigma;
 }
 
-class ReprojectionFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1> {
+class ReprojectionFactor : public TangentCostFunction {
  public:
   ReprojectionFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                      double sqrt_information);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** jacobians) const override;
 
  private:
   Eigen::Vector2d pt_i_, pt_j_;
@@ -33,13 +35,13 @@ class ReprojectionFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1> {
 // With the time offset: each observation moves along its image velocity (normalised units per
 // second, from the tracker) by the change of td since it was recorded with td_i / td_j:
 //   pt_i(td) = pt_i - (td - td_i) vel_i,   pt_j(td) = pt_j - (td - td_j) vel_j.
-class ReprojectionTdFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1, 1> {
+class ReprojectionTdFactor : public TangentCostFunction {
  public:
   ReprojectionTdFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                        const Eigen::Vector2d& vel_i, const Eigen::Vector2d& vel_j, double td_i,
                        double td_j, double sqrt_information);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** jacobians) const override;
 
  private:
   Eigen::Vector2d pt_i_, pt_j_, vel_i_, vel_j_;

@@ -13,6 +13,7 @@
 #include "vio/estimator/pose_prior_factor.h"
 #include "vio/estimator/reprojection_factor.h"
 #include "vio/estimator/scalar_prior_factor.h"
+#include "vio/estimator/window_solver.h"
 #include "vio/imu/so3.h"
 #include "vio/init/static_initializer.h"
 #include "vio/init/visual_inertial_initializer.h"
@@ -348,29 +349,25 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
 
 void SlidingWindowEstimator::solve() {
   const auto t0 = std::chrono::steady_clock::now();
-  ceres::Problem::Options po;
-  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(po);
+  WindowSolver solver;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   ceres::HuberLoss huber(options_.huber_px);
 
   for (auto& f : frames_) {
-    problem.AddParameterBlock(f->pose, 7, const_cast<PoseManifold*>(&kPoseManifold));
-    problem.AddParameterBlock(f->speed_bias, 9);
+    solver.addBlock(f->pose, 7, &kPoseManifold);
+    solver.addBlock(f->speed_bias, 9);
   }
-  problem.AddParameterBlock(T_B_C_, 7, const_cast<PoseManifold*>(&kPoseManifold));
+  solver.addBlock(T_B_C_, 7, &kPoseManifold);
   const bool extrinsic_free = options_.estimate_extrinsic && !frames_.back()->stationary;
   if (extrinsic_free) {
     costs.push_back(std::make_unique<PosePriorFactor>(
         T_B_C_calibrated_.translation(), Eigen::Quaterniond(T_B_C_calibrated_.rotation()),
         options_.extrinsic_prior_sigma_m, options_.extrinsic_prior_sigma_deg * M_PI / 180.0));
-    problem.AddResidualBlock(costs.back().get(), nullptr, T_B_C_);
+    solver.addResidual(costs.back().get(), nullptr, {T_B_C_});
   } else {
-    problem.SetParameterBlockConstant(T_B_C_);
+    solver.setConstant(T_B_C_);
   }
-  problem.AddParameterBlock(&td_, 1);
+  solver.addBlock(&td_, 1);
   // Standing still there is no image motion to tell the offset by.
   const bool td_free = options_.estimate_time_offset && !frames_.back()->stationary &&
                        data::nsToSec(frames_.back()->t_ns - settled_since_ns_) >=
@@ -378,56 +375,54 @@ void SlidingWindowEstimator::solve() {
   if (td_free) {
     costs.push_back(
         std::make_unique<ScalarPriorFactor>(options_.time_offset_s, options_.time_offset_prior_sigma_s));
-    problem.AddResidualBlock(costs.back().get(), nullptr, &td_);
+    solver.addResidual(costs.back().get(), nullptr, {&td_});
   } else {
-    problem.SetParameterBlockConstant(&td_);
+    solver.setConstant(&td_);
   }
-  if (!prior_) problem.SetParameterBlockConstant(frames_.front()->pose);  // gauge before any prior
+  if (!prior_) solver.setConstant(frames_.front()->pose);  // gauge before any prior
 
   for (size_t k = 1; k < frames_.size(); ++k) {
     if (!frames_[k]->imu || frames_[k]->imu->sumDt() > 10.0) continue;
     costs.push_back(std::make_unique<ImuFactor>(frames_[k]->imu));
-    problem.AddResidualBlock(costs.back().get(), nullptr, frames_[k - 1]->pose,
-                             frames_[k - 1]->speed_bias, frames_[k]->pose, frames_[k]->speed_bias);
+    solver.addResidual(costs.back().get(), nullptr,
+                       {frames_[k - 1]->pose, frames_[k - 1]->speed_bias, frames_[k]->pose,
+                        frames_[k]->speed_bias});
   }
   if (options_.zero_velocity_updates)
     for (auto& f : frames_)
       if (f->stationary) {
         costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
-        problem.AddResidualBlock(costs.back().get(), nullptr, f->speed_bias);
+        solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
       }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   int used = 0;
   for (auto& [id, l] : landmarks_.landmarks()) {
     if (!l.has_depth || l.observations.size() < 2) continue;
+    solver.addLandmark(&l.inverse_depth);
     const Observation& host = l.observations.front();
     for (size_t k = 1; k < l.observations.size(); ++k) {
       std::vector<double*> blocks;
       costs.push_back(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks));
-      problem.AddResidualBlock(costs.back().get(), &huber, blocks);
+      solver.addResidual(costs.back().get(), &huber, blocks);
     }
     ++used;
   }
   stats_.landmarks_in_last_solve = used;
-  if (prior_) {
-    costs.push_back(std::make_unique<MarginalizationFactor>(prior_));
-    problem.AddResidualBlock(costs.back().get(), nullptr, prior_->blocks);
-  }
+  if (prior_) solver.setPrior(prior_.get());
 
   // The problem is invariant to a rotation about gravity and a translation (4 unobservable
   // degrees of freedom); remember where the oldest frame was to undo drift along them.
   const Eigen::Vector3d p0_before = frames_.front()->p();
   const Eigen::Matrix3d R0_before = frames_.front()->q().toRotationMatrix();
 
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.trust_region_strategy_type = ceres::DOGLEG;
-  so.max_num_iterations = options_.max_iterations;
-  so.max_solver_time_in_seconds = options_.max_solver_time_s;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  WindowSolverOptions so;
+  so.max_iterations = options_.max_iterations;
+  so.max_time_s = options_.max_solver_time_s;
+  const WindowSolverSummary summary = solver.solve(so);
+  ++stats_.solves;
+  stats_.solver_iterations += summary.iterations;
+  stats_.solver_successful += summary.successful;
+  if (summary.time_limit_hit) ++stats_.solves_cut_by_time;
 
   for (auto& f : frames_) {
     Eigen::Map<Eigen::Quaterniond> q(f->pose + 3);
@@ -580,10 +575,7 @@ void SlidingWindowEstimator::marginalizeOldest() {
   Frame& oldest = *frames_[0];
   std::vector<const double*> marginalized{oldest.pose, oldest.speed_bias};
 
-  if (prior_) {
-    costs.push_back(std::make_unique<MarginalizationFactor>(prior_));
-    m.addResidualBlock(costs.back().get(), nullptr, prior_->blocks);
-  }
+  if (prior_) m.addPrior(prior_);
   if (frames_[1]->imu && frames_[1]->imu->sumDt() <= 10.0) {
     costs.push_back(std::make_unique<ImuFactor>(frames_[1]->imu));
     m.addResidualBlock(costs.back().get(), nullptr,
@@ -627,8 +619,7 @@ void SlidingWindowEstimator::dropFrame(int idx) {
     Marginalizer m;
     for (auto& f : frames_) m.setManifold(f->pose, &kPoseManifold);
     setCalibrationRoles(&m);
-    MarginalizationFactor factor(prior_);
-    m.addResidualBlock(&factor, nullptr, prior_->blocks);
+    m.addPrior(prior_);
     std::vector<const double*> marginalized;
     if (contains(prior_->blocks, second.pose)) marginalized.push_back(second.pose);
     if (contains(prior_->blocks, second.speed_bias)) marginalized.push_back(second.speed_bias);

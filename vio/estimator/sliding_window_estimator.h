@@ -58,6 +58,10 @@ struct EstimatorStats {
   int landmarks_in_last_solve = 0;
   int frames_without_imu = 0;  // skipped: no IMU sample within max_imu_gap_s of the frame
   int outliers_rejected = 0;   // landmarks removed for their reprojection error
+  int64_t solver_iterations = 0;  // window-solver steps tried, summed over the solves
+  int64_t solver_successful = 0;  // of which accepted
+  int solves = 0;
+  int solves_cut_by_time = 0;     // solves stopped by max_solver_time_s before max_iterations
   std::vector<double> solve_ms, marginalization_ms;  // per solved frame
 };
 
