@@ -48,6 +48,13 @@ class SequenceSource {
   virtual SourceCounts counts() const = 0;
   // One line for logs and the run summary, e.g. "ROS bag /x.bag (/cam0/image_raw, /imu0)".
   virtual std::string description() const = 0;
+
+  // Live sources (a camera): next() blocks until the next measurement. requestStop() may be
+  // called from any thread (a signal handler's helper thread): a blocked next() returns false
+  // soon after. stopReason() says why next() returned false when it was not the natural end of a
+  // recording, e.g. "/dev/video2: VIDIOC_DQBUF: No such device (camera unplugged?)"; "" otherwise.
+  virtual void requestStop() {}
+  virtual std::string stopReason() const { return {}; }
 };
 
 }  // namespace adugs::data
