@@ -12,6 +12,7 @@
 #include <linux/videodev2.h>
 
 #include "app/live/d435i_source.h"
+#include "data/yaml_options.h"
 #include "data/device/realsense_imu.h"
 #include "data/input_error.h"
 #include "tests/app/live/fake_d435i.h"
@@ -387,6 +388,53 @@ TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
   data::OpenedSequence seq = openD435i(o, (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
   EXPECT_EQ(seq.camera.fx, 430.0);
   EXPECT_NE(seq.calibration_from.find("camchain.yaml"), std::string::npos);
+}
+
+TEST(D435iOptions, TheConfigFileHoldsTheDefaultsInCode) {
+  // data/config/d435i.yaml says "the defaults in code are these values": check it.
+  data::YamlOptionsReader root = data::YamlOptionsReader::fromFile(std::string(ADUGS_SOURCE_DIR) + "/data/config/d435i.yaml");
+  data::YamlOptionsReader r = root.child("d435i", true);
+  D435iOptions file;
+  file.width = 1;  // every key must be in the file for this to come back
+  file.camera.camera.fx = 0;
+  file.imu_noise.gyro_noise_density = 0;
+  readD435iOptions(r, &file);
+  r.finish();
+  const D435iOptions code;
+  EXPECT_EQ(file.stream, code.stream);
+  EXPECT_EQ(file.format, code.format);
+  EXPECT_EQ(file.width, code.width);
+  EXPECT_EQ(file.height, code.height);
+  EXPECT_EQ(file.fps, code.fps);
+  EXPECT_EQ(file.buffers, code.buffers);
+  EXPECT_EQ(file.metadata, code.metadata);
+  EXPECT_EQ(file.emitter, code.emitter);
+  EXPECT_EQ(file.exposure_us, code.exposure_us);
+  EXPECT_EQ(file.gain, code.gain);
+  EXPECT_EQ(file.imu, code.imu);
+  EXPECT_EQ(file.accel_hz, code.accel_hz);
+  EXPECT_EQ(file.gyro_hz, code.gyro_hz);
+  EXPECT_EQ(file.gyro_lsb_deg_s, code.gyro_lsb_deg_s);
+  EXPECT_EQ(file.iio_buffer_records, code.iio_buffer_records);
+  EXPECT_EQ(file.frame_latency_s, code.frame_latency_s);
+  EXPECT_EQ(file.imu_latency_s, code.imu_latency_s);
+  EXPECT_EQ(file.stall_timeout_s, code.stall_timeout_s);
+  EXPECT_EQ(file.clock_warmup_s, code.clock_warmup_s);
+  const data::CameraCalibration &a = file.camera.camera, &b = code.camera.camera;
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_EQ(a.fx, b.fx);
+  EXPECT_EQ(a.fy, b.fy);
+  EXPECT_EQ(a.cx, b.cx);
+  EXPECT_EQ(a.cy, b.cy);
+  EXPECT_EQ(a.distortion, b.distortion);
+  EXPECT_TRUE(a.T_B_C.isApprox(b.T_B_C, 1e-12)) << a.T_B_C.matrix() << "\n" << b.T_B_C.matrix();
+  EXPECT_EQ(file.camera.time_shift_ns, code.camera.time_shift_ns);
+  EXPECT_EQ(file.imu_noise.accel_noise_density, code.imu_noise.accel_noise_density);
+  EXPECT_EQ(file.imu_noise.accel_random_walk, code.imu_noise.accel_random_walk);
+  EXPECT_EQ(file.imu_noise.gyro_noise_density, code.imu_noise.gyro_noise_density);
+  EXPECT_EQ(file.imu_noise.gyro_random_walk, code.imu_noise.gyro_random_walk);
+  EXPECT_EQ(file.imu_noise.rate_hz, code.imu_noise.rate_hz);
 }
 
 }  // namespace
