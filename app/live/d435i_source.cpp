@@ -89,7 +89,11 @@ D435iSource::D435iSource(const D435iOptions& options, V4l2Io& io, int64_t image_
               << " Mb/s (USB 2): few modes, frames may be dropped; use a USB 3 port and cable\n";
   stop_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   openCamera(*camera, io);
-  if (options.imu) openImu(*camera);
+  frame_stream_ = merge_.addStream(options.frame_latency_s);
+  if (options.imu) {
+    openImu(*camera);
+    imu_stream_ = merge_.addStream(options.imu_latency_s);
+  }
   std::ostringstream d;
   d << "RealSense " << (camera->product.empty() ? options.usb_id : camera->product) << " serial "
     << (camera->serial.empty() ? "?" : camera->serial) << " (USB " << camera->bus_port << "): " << video_->path()
@@ -238,36 +242,18 @@ void D435iSource::end(const std::string& reason) {
   stop_reason_ = reason;
 }
 
-int64_t D435iSource::horizon(int64_t now) const {
-  // The stamp below which no stream can still deliver: each stream has passed its newest stamp,
-  // and none of them can deliver anything older than its latency bound.
-  int64_t h = INT64_MAX;
-  if (video_) h = std::min(h, std::max(newest_frame_, now - data::secToNs(options_.frame_latency_s)));
-  if (gyro_) h = std::min(h, std::max(newest_imu_, now - data::secToNs(options_.imu_latency_s)));
-  return h;
-}
-
 bool D435iSource::next(data::Measurement& m) {
   for (;;) {
-    if (!queue_.empty()) {
-      const int64_t now = monotonicNs();
-      const int64_t t = queue_.begin()->first.first;
-      if (ended_ || t <= horizon(now)) {
-        m = std::move(queue_.begin()->second);
-        queue_.erase(queue_.begin());
-        last_released_ = t;
-        if (m.isFrame()) ++stats_.frames;
-        else ++stats_.imu_samples;
-        return true;
-      }
-      // Wait at most until the stamp passes every stream's latency bound.
-      const int64_t bound = std::max(video_ ? data::secToNs(options_.frame_latency_s) : 0,
-                                     gyro_ ? data::secToNs(options_.imu_latency_s) : 0);
-      pump(static_cast<int>(std::clamp<int64_t>((t + bound - now) / 1'000'000 + 1, 0, 100)));
-      continue;
+    if (merge_.pop(monotonicNs(), &m, ended_)) {
+      if (m.isFrame()) ++stats_.frames;
+      else ++stats_.imu_samples;
+      return true;
     }
     if (ended_) return false;
-    pump(100);
+    // Wait for data, at most until the earliest pending measurement's latency bounds have passed.
+    const int64_t deadline = merge_.releaseDeadlineNs();
+    const int64_t wait_ms = deadline == INT64_MAX ? 100 : (deadline - monotonicNs()) / 1'000'000 + 1;
+    pump(static_cast<int>(std::clamp<int64_t>(wait_ms, 0, 100)));
   }
 }
 
@@ -403,16 +389,11 @@ bool D435iSource::inWarmup(int64_t t_ns) {
 
 void D435iSource::queueFrame(int64_t t_ns, const cv::Mat& image) {
   if (inWarmup(t_ns)) return;
-  if (t_ns <= last_released_ || t_ns <= newest_frame_) {
-    ++stats_.frames_late;
-    return;
-  }
   data::Measurement m;
   m.type = data::Measurement::Type::kFrame;
   m.frame.t_ns = t_ns;
   m.frame.image = image;
-  queue_.emplace(std::make_pair(t_ns, 1), std::move(m));
-  newest_frame_ = t_ns;
+  merge_.push(frame_stream_, std::move(m));
 }
 
 void D435iSource::onImu(IioSensor& sensor, bool accel) {
@@ -473,29 +454,20 @@ void D435iSource::queueUnitedImu() {
   while (unifier_.pop(&s)) {
     if (imu_stamp_kind_ == 1) s.t_ns = clock_.toHostNs(s.t_ns / 1000) + (s.t_ns % 1000);
     if (inWarmup(s.t_ns)) continue;
-    if (s.t_ns <= newest_imu_) {
-      ++stats_.imu_out_of_order;
-      continue;
-    }
-    if (s.t_ns <= last_released_) {
-      ++stats_.imu_late;
-      continue;
-    }
     data::Measurement m;
     m.type = data::Measurement::Type::kImu;
     m.imu = s;
-    queue_.emplace(std::make_pair(s.t_ns, 0), std::move(m));
-    newest_imu_ = s.t_ns;
+    merge_.push(imu_stream_, std::move(m));
   }
-  stats_.gyro_unmatched = unifier_.unmatched();
 }
 
 data::SourceCounts D435iSource::counts() const {
+  const D435iStats s = stats();
   data::SourceCounts c;
-  c.skipped_frames = stats_.frames_bad + stats_.frames_without_metadata + stats_.frames_lost_by_driver;
-  c.late_dropped = stats_.frames_late + stats_.imu_late;
-  c.imu_dropped = stats_.imu_out_of_order;
-  c.unmatched_gyro = unifier_.unmatched();
+  c.skipped_frames = s.frames_bad + s.frames_without_metadata + s.frames_lost_by_driver;
+  c.late_dropped = s.frames_late + s.imu_late;
+  c.imu_dropped = s.imu_out_of_order;
+  c.unmatched_gyro = s.gyro_unmatched;
   return c;
 }
 
@@ -503,6 +475,11 @@ D435iStats D435iSource::stats() const {
   D435iStats s = stats_;
   s.clock_drift_ppm = clock_.driftPpm();
   s.gyro_unmatched = unifier_.unmatched();
+  s.frames_late = merge_.late(frame_stream_) + merge_.outOfOrder(frame_stream_);
+  if (imu_stream_ >= 0) {
+    s.imu_late = merge_.late(imu_stream_);
+    s.imu_out_of_order += merge_.outOfOrder(imu_stream_);
+  }
   return s;
 }
 

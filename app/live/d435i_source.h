@@ -29,6 +29,7 @@
 #include "app/live/d435i_options.h"
 #include "app/live/d4xx_controls.h"
 #include "app/live/iio_sensor.h"
+#include "app/live/time_ordered_merge.h"
 #include "app/live/v4l2_io.h"
 #include "app/live/v4l2_stream.h"
 #include "data/dataset_preset.h"
@@ -87,7 +88,7 @@ class D435iSource : public data::SequenceSource {
   void frameWithMetadata(const cv::Mat& image, const data::UvcFrameMetadata& meta);
   void queueFrame(int64_t t_ns, const cv::Mat& image);
   void queueUnitedImu();
-  int64_t horizon(int64_t now) const;
+  bool inWarmup(int64_t t_ns);
   void end(const std::string& reason);
 
   D435iOptions options_;
@@ -110,12 +111,9 @@ class D435iSource : public data::SequenceSource {
   std::map<uint32_t, data::UvcFrameMetadata> metadata_waiting_;
   bool have_sequence_ = false;
   uint32_t last_sequence_ = 0;
-  // Output, in time order: key (stamp, 0 for IMU / 1 for frames: IMU first on equal stamps).
-  std::multimap<std::pair<int64_t, int>, data::Measurement> queue_;
-  int64_t last_released_ = INT64_MIN;
-  int64_t newest_frame_ = INT64_MIN, newest_imu_ = INT64_MIN;
+  TimeOrderedMerge merge_;
+  int frame_stream_ = -1, imu_stream_ = -1;
   int64_t warmup_until_ = INT64_MIN;  // stamps before this are the clock's warm-up
-  bool inWarmup(int64_t t_ns);
   int64_t last_frame_arrival_ = 0, last_imu_arrival_ = 0;
   int stop_fd_ = -1;  // eventfd: requestStop() wakes a blocked next()
   std::atomic<bool> stop_requested_{false};
