@@ -44,6 +44,8 @@ void readD435iOptions(data::YamlOptionsReader& r, D435iOptions* o) {
   r.optional("dev_root", o->dev_root);
   r.optional("usb_id", o->usb_id);
   r.optional("serial", o->serial);
+  r.optional("backend", o->backend);
+  if (o->backend != "kernel" && o->backend != "librealsense") r.fail("backend", "must be kernel or librealsense");
   r.optional("stream", o->stream);
   if (o->stream != "infrared" && o->stream != "color") r.fail("stream", "must be infrared or color");
   r.optional("format", o->format);

@@ -18,6 +18,9 @@ struct D435iOptions {
   std::string dev_root = "/dev";
   std::string usb_id = "8086:0b3a";  // vendor:product of the D435i
   std::string serial;                // USB serial number of the camera to use; "" = the first found
+  // kernel: V4L2 + UVC + IIO (this project's own path, any Linux); librealsense: ViSP's
+  // vpRealSense2 (only in builds whose ViSP has librealsense2, not Debian's).
+  std::string backend = "kernel";
 
   // Images.
   std::string stream = "infrared";  // infrared (the left imager, global shutter) | color (rolling)

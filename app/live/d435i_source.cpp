@@ -17,6 +17,7 @@
 
 #include "app/live/camera_nodes.h"
 #include "app/live/usb_device_tree.h"
+#include "app/live/visp_realsense2_source.h"
 #include "data/device/realsense_imu.h"
 #include "data/input_error.h"
 
@@ -504,7 +505,8 @@ data::OpenedSequence openD435i(const D435iOptions& options, const std::string& k
                          (kalibr_imu.empty() ? std::string("the run config's d435i.imu0") : kalibr_imu);
   if (kalibr_camchain.empty())
     std::cerr << "warning: d435i: camera intrinsics from " << camera_from << "\n";
-  out.source = std::make_unique<D435iSource>(options, io, camera.time_shift_ns);
+  if (options.backend == "librealsense") out.source = openVispRealSense2(options, camera.time_shift_ns);
+  else out.source = std::make_unique<D435iSource>(options, io, camera.time_shift_ns);
   return out;
 }
 

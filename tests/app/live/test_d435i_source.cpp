@@ -12,6 +12,7 @@
 #include <linux/videodev2.h>
 
 #include "app/live/d435i_source.h"
+#include "app/live/visp_realsense2_source.h"
 #include "data/yaml_options.h"
 #include "data/device/realsense_imu.h"
 #include "data/input_error.h"
@@ -388,6 +389,16 @@ TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
   data::OpenedSequence seq = openD435i(o, (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
   EXPECT_EQ(seq.camera.fx, 430.0);
   EXPECT_NE(seq.calibration_from.find("camchain.yaml"), std::string::npos);
+  seq.source.reset();
+  if (!vispRealSense2Available()) {  // Debian's ViSP: the librealsense backend says why it is not there
+    o.backend = "librealsense";
+    try {
+      openD435i(o, (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
+      FAIL() << "opened the librealsense backend in a build without it";
+    } catch (const data::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("VISP_HAVE_REALSENSE2"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(D435iOptions, TheConfigFileHoldsTheDefaultsInCode) {
@@ -401,6 +412,7 @@ TEST(D435iOptions, TheConfigFileHoldsTheDefaultsInCode) {
   readD435iOptions(r, &file);
   r.finish();
   const D435iOptions code;
+  EXPECT_EQ(file.backend, code.backend);
   EXPECT_EQ(file.stream, code.stream);
   EXPECT_EQ(file.format, code.format);
   EXPECT_EQ(file.width, code.width);
