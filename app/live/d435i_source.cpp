@@ -229,7 +229,7 @@ D435iSource::~D435iSource() {
   if (stop_fd_ >= 0) ::close(stop_fd_);
 }
 
-void D435iSource::requestStop() {
+void D435iSource::stop() {
   stop_requested_ = true;
   const uint64_t one = 1;
   if (stop_fd_ >= 0 && ::write(stop_fd_, &one, sizeof(one)) < 0) {
@@ -309,9 +309,11 @@ void D435iSource::onVideo() {
     if (have_sequence_ && buf.sequence > last_sequence_ + 1) stats_.frames_lost_by_driver += buf.sequence - last_sequence_ - 1;
     have_sequence_ = true;
     last_sequence_ = buf.sequence;
-    cv::Mat image;
-    const bool ok = !buf.error && data::decodeGrey(format_, buf.data, buf.bytes, options_.width, options_.height,
-                                                   video_->bytesPerLine(), &image);
+    cv::Mat image, colour;
+    bool ok = !buf.error && data::decodeGrey(format_, buf.data, buf.bytes, options_.width, options_.height,
+                                             video_->bytesPerLine(), &image);
+    if (ok && format_ == data::PixelFormat::kYuyv)
+      ok = data::decodeYuyvToBgr(buf.data, buf.bytes, options_.width, options_.height, video_->bytesPerLine(), &colour);
     const int64_t host_ns = buf.timestamp_ns;
     const uint32_t sequence = buf.sequence;
     video_->requeue(buf);
@@ -321,15 +323,15 @@ void D435iSource::onVideo() {
       continue;
     }
     if (!meta_) {
-      queueFrame(host_ns + image_time_shift_ns_, image);
+      queueFrame(host_ns + image_time_shift_ns_, image, colour);
       continue;
     }
     const auto m = metadata_waiting_.find(sequence);
     if (m != metadata_waiting_.end()) {
-      frameWithMetadata(image, m->second);
+      frameWithMetadata(image, colour, m->second);
       metadata_waiting_.erase(metadata_waiting_.begin(), std::next(m));  // older ones lost their frame
     } else {
-      frames_waiting_[sequence] = {image, host_ns};
+      frames_waiting_[sequence] = {image, colour, host_ns};
     }
   }
   // Frames older than the newest metadata can no longer be matched; keep at most a few waiting.
@@ -352,7 +354,7 @@ void D435iSource::onMetadata() {
     if (meta.has_pts) clock_.addPair(unwrapper_.unwrap(meta.pts_us), meta.host_ns);  // readout start vs arrival
     const auto f = frames_waiting_.find(sequence);
     if (f != frames_waiting_.end()) {
-      frameWithMetadata(f->second.image, meta);
+      frameWithMetadata(f->second.image, f->second.colour, meta);
       stats_.frames_without_metadata += static_cast<size_t>(std::distance(frames_waiting_.begin(), f));
       frames_waiting_.erase(frames_waiting_.begin(), std::next(f));
     } else {
@@ -362,7 +364,7 @@ void D435iSource::onMetadata() {
   }
 }
 
-void D435iSource::frameWithMetadata(const cv::Mat& image, const data::UvcFrameMetadata& meta) {
+void D435iSource::frameWithMetadata(const cv::Mat& image, const cv::Mat& colour, const data::UvcFrameMetadata& meta) {
   uint32_t device_us = 0;
   if (meta.has_sensor_timestamp) {
     device_us = meta.sensor_timestamp_us;
@@ -378,7 +380,7 @@ void D435iSource::frameWithMetadata(const cv::Mat& image, const data::UvcFrameMe
   }
   const int64_t device = unwrapper_.unwrap(device_us);
   if (!meta.has_pts) clock_.addPair(device, meta.host_ns);  // no readout stamp to pair with the arrival
-  queueFrame(clock_.toHostNs(device) + image_time_shift_ns_, image);
+  queueFrame(clock_.toHostNs(device) + image_time_shift_ns_, image, colour);
 }
 
 bool D435iSource::inWarmup(int64_t t_ns) {
@@ -388,12 +390,13 @@ bool D435iSource::inWarmup(int64_t t_ns) {
   return true;
 }
 
-void D435iSource::queueFrame(int64_t t_ns, const cv::Mat& image) {
+void D435iSource::queueFrame(int64_t t_ns, const cv::Mat& image, const cv::Mat& colour) {
   if (inWarmup(t_ns)) return;
   data::Measurement m;
   m.type = data::Measurement::Type::kFrame;
   m.frame.t_ns = t_ns;
   m.frame.image = image;
+  m.frame.colour = colour;
   merge_.push(frame_stream_, std::move(m));
 }
 
@@ -465,7 +468,7 @@ void D435iSource::queueUnitedImu() {
 data::SourceCounts D435iSource::counts() const {
   const D435iStats s = stats();
   data::SourceCounts c;
-  c.skipped_frames = s.frames_bad + s.frames_without_metadata + s.frames_lost_by_driver;
+  c.frames_lost = s.frames_bad + s.frames_without_metadata + s.frames_lost_by_driver;  // taken, never whole here
   c.late_dropped = s.frames_late + s.imu_late;
   c.imu_dropped = s.imu_out_of_order;
   c.unmatched_gyro = s.gyro_unmatched;

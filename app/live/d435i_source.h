@@ -5,7 +5,8 @@
 // HID IIO devices (accel_3d, gyro_3d), all on one clock. next() blocks until the next measurement
 // and hands them out in time order:
 //
-//   frames   stamp = the middle of the exposure (D4xx capture-timing metadata), device clock
+//   frames   grey image (the colour stream: also Frame::colour, BGR);
+//            stamp = the middle of the exposure (D4xx capture-timing metadata), device clock
 //            mapped to the host's CLOCK_MONOTONIC (data/device/device_clock.h), plus the
 //            calibration's timeshift_cam_imu; without a metadata node: the driver's host stamp
 //   IMU      accelerometer interpolated onto the gyro stamps (data/imu_unifier.h), in the
@@ -15,7 +16,7 @@
 // latency bound (options frame_latency_s / imu_latency_s): the order is exact as long as no frame
 // arrives later than frame_latency_s after its mid-exposure (late ones are dropped and counted).
 // next() returns false when the camera or IMU goes away (unplugged: the driver returns ENODEV or
-// the device file closes), when a stream stalls for stall_timeout_s, or after requestStop(); the
+// the device file closes), when a stream stalls for stall_timeout_s, or after stop(); the
 // measurements already read are handed out first, and stopReason() says what happened.
 //
 // Call next() from a thread that does little else: the driver keeps `buffers` frames and the IIO
@@ -69,13 +70,14 @@ class D435iSource : public data::SequenceSource {
   bool next(data::Measurement& m) override;
   data::SourceCounts counts() const override;
   std::string description() const override { return description_; }
-  void requestStop() override;
+  bool isLive() const override { return true; }
+  void stop() override;
   std::string stopReason() const override { return stop_reason_; }
   D435iStats stats() const;
 
  private:
   struct WaitingFrame {
-    cv::Mat image;
+    cv::Mat image, colour;  // colour: BGR from the colour stream, else empty
     int64_t host_ns = 0;
   };
   void openCamera(const UsbCamera& camera, V4l2Io& io);
@@ -85,8 +87,8 @@ class D435iSource : public data::SequenceSource {
   void onVideo();
   void onMetadata();
   void onImu(IioSensor& sensor, bool accel);
-  void frameWithMetadata(const cv::Mat& image, const data::UvcFrameMetadata& meta);
-  void queueFrame(int64_t t_ns, const cv::Mat& image);
+  void frameWithMetadata(const cv::Mat& image, const cv::Mat& colour, const data::UvcFrameMetadata& meta);
+  void queueFrame(int64_t t_ns, const cv::Mat& image, const cv::Mat& colour);
   void queueUnitedImu();
   bool inWarmup(int64_t t_ns);
   void end(const std::string& reason);
@@ -115,7 +117,7 @@ class D435iSource : public data::SequenceSource {
   int frame_stream_ = -1, imu_stream_ = -1;
   int64_t warmup_until_ = INT64_MIN;  // stamps before this are the clock's warm-up
   int64_t last_frame_arrival_ = 0, last_imu_arrival_ = 0;
-  int stop_fd_ = -1;  // eventfd: requestStop() wakes a blocked next()
+  int stop_fd_ = -1;  // eventfd: stop() wakes a blocked next()
   std::atomic<bool> stop_requested_{false};
   bool ended_ = false;
   std::string stop_reason_;

@@ -68,7 +68,7 @@ class VispRealSense2Source : public data::SequenceSource {
   }
 
   ~VispRealSense2Source() override {
-    requestStop();
+    stop();
     camera_.close();
   }
 
@@ -98,7 +98,8 @@ class VispRealSense2Source : public data::SequenceSource {
     return c;
   }
   std::string description() const override { return description_; }
-  void requestStop() override {
+  bool isLive() const override { return true; }
+  void stop() override {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!stopped_) reason_ = "stopped on request";
     stopped_ = true;
@@ -143,15 +144,20 @@ class VispRealSense2Source : public data::SequenceSource {
           f.supports_frame_metadata(RS2_FRAME_METADATA_FRAME_TIMESTAMP))
         t -= 1000 * (f.get_frame_metadata(RS2_FRAME_METADATA_FRAME_TIMESTAMP) -
                      f.get_frame_metadata(RS2_FRAME_METADATA_SENSOR_TIMESTAMP));
-      cv::Mat image;
+      cv::Mat image, colour;
       const data::PixelFormat format = type == RS2_STREAM_COLOR ? data::PixelFormat::kYuyv : data::PixelFormat::kGrey;
-      if (!data::decodeGrey(format, static_cast<const uint8_t*>(video.get_data()), video.get_data_size(), video.get_width(),
-                            video.get_height(), video.get_stride_in_bytes(), &image))
+      const uint8_t* bytes = static_cast<const uint8_t*>(video.get_data());
+      const size_t size = static_cast<size_t>(video.get_data_size());
+      if (!data::decodeGrey(format, bytes, size, video.get_width(), video.get_height(), video.get_stride_in_bytes(), &image))
+        return;
+      if (format == data::PixelFormat::kYuyv &&
+          !data::decodeYuyvToBgr(bytes, size, video.get_width(), video.get_height(), video.get_stride_in_bytes(), &colour))
         return;
       data::Measurement m;
       m.type = data::Measurement::Type::kFrame;
       m.frame.t_ns = t + image_time_shift_ns_;
       m.frame.image = image;
+      m.frame.colour = colour;
       merge_.push(frame_stream_, std::move(m));
     }
     fresh_ = true;

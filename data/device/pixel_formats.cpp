@@ -1,5 +1,7 @@
 #include "data/device/pixel_formats.h"
 
+#include <opencv2/imgproc.hpp>
+
 namespace adugs::data {
 namespace {
 
@@ -69,6 +71,15 @@ bool decodeGrey(PixelFormat format, const uint8_t* data, size_t bytes, int width
     }
   }
   *grey = out;
+  return true;
+}
+
+bool decodeYuyvToBgr(const uint8_t* data, size_t bytes, int width, int height, int bytes_per_line, cv::Mat* bgr) {
+  size_t stride = 0;
+  if (!data || width % 2 != 0 || !layout(PixelFormat::kYuyv, bytes, width, height, bytes_per_line, &stride)) return false;
+  // A view of the driver's bytes (not written), converted into a new image.
+  const cv::Mat yuyv(height, width, CV_8UC2, const_cast<uint8_t*>(data), stride);
+  cv::cvtColor(yuyv, *bgr, cv::COLOR_YUV2BGR_YUYV);
   return true;
 }
 

@@ -35,6 +35,8 @@ int bytesPerPixel(PixelFormat format);
 // The left (or only) image as CV_8UC1 (a copy: the buffer may be reused at once).
 bool decodeGrey(PixelFormat format, const uint8_t* data, size_t bytes, int width, int height,
                 int bytes_per_line, cv::Mat* grey);
+// YUYV only: the colour image as CV_8UC3 BGR (for detectors and views).
+bool decodeYuyvToBgr(const uint8_t* data, size_t bytes, int width, int height, int bytes_per_line, cv::Mat* bgr);
 // Y8I only: both infrared images.
 bool splitY8i(const uint8_t* data, size_t bytes, int width, int height, int bytes_per_line,
               cv::Mat* left, cv::Mat* right);

@@ -50,6 +50,23 @@ TEST(PixelFormats, GreyAndYuyvLuma) {
   EXPECT_EQ(g.at<uint8_t>(0, 1), 60);
 }
 
+TEST(PixelFormats, YuyvToBgr) {
+  // Two pixels of neutral chroma (U = V = 128): grey, BT.601 limited range (UVC's YUYV), 1.164 (Y - 16);
+  // then a red-shifted pair.
+  const std::vector<uint8_t> grey = {100, 128, 200, 128};
+  cv::Mat bgr;
+  ASSERT_TRUE(decodeYuyvToBgr(grey.data(), grey.size(), 2, 1, 0, &bgr));
+  ASSERT_EQ(bgr.type(), CV_8UC3);
+  EXPECT_EQ(bgr.at<cv::Vec3b>(0, 0), cv::Vec3b(98, 98, 98));     // 1.164 * 84 = 97.8
+  EXPECT_EQ(bgr.at<cv::Vec3b>(0, 1), cv::Vec3b(214, 214, 214));  // 1.164 * 184 = 214.2
+  const std::vector<uint8_t> red = {100, 128, 100, 200};  // V > 128: more red, less green
+  ASSERT_TRUE(decodeYuyvToBgr(red.data(), red.size(), 2, 1, 0, &bgr));
+  const cv::Vec3b p = bgr.at<cv::Vec3b>(0, 0);
+  EXPECT_GT(p[2], 150);  // R
+  EXPECT_LT(p[1], 100);  // G
+  EXPECT_FALSE(decodeYuyvToBgr(red.data(), 3, 2, 1, 0, &bgr));
+}
+
 TEST(PixelFormats, TruncatedBuffersAreRefused) {
   std::vector<uint8_t> buf(2 * 4 * 3 - 1);  // a 4x3 Y8I image needs 24 bytes
   cv::Mat l, r, g;

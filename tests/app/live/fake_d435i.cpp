@@ -178,32 +178,39 @@ void FakeD435i::writeRecord(int fd, int32_t x, int32_t y, int32_t z, int64_t sta
 }
 
 void FakeD435i::deliverFrame(int f) {
-  const FakeV4l2::State s = v4l2_.state(devRoot() + "/video0");
+  // The infrared node, or the colour node if that is the one streaming.
+  const bool colour = v4l2_.state(devRoot() + "/video2").streaming;
+  const std::string video = devRoot() + (colour ? "/video2" : "/video0");
+  const std::string meta = devRoot() + (colour ? "/video3" : "/video1");
+  const FakeV4l2::State s = v4l2_.state(video);
   const int64_t t0 = config_.device_start_us;
   const int64_t mid = t0 + 10000 + 33333LL * f;
   const int64_t readout_start = mid + config_.exposure_us / 2;
   const double arrival = hostNsOfDeviceUs(readout_start) + 300'000.0;  // first packet 0.3 ms after
-  if (config_.metadata_node) {
+  if (config_.metadata_node || colour) {
     D4xxMetadataFields m;
     m.host_ns = static_cast<uint64_t>(std::llround(arrival));
     m.pts_us = static_cast<uint32_t>(readout_start);  // the counter's 32 bits
-    m.capture_timing = config_.d4xx_metadata && v4l2_.state(devRoot() + "/video1").meta_format == v4l2_fourcc('D', '4', 'X', 'X');
+    m.capture_timing = v4l2_.state(meta).meta_format == v4l2_fourcc('D', '4', 'X', 'X');
     m.frame_counter = static_cast<uint32_t>(f);
     m.sensor_timestamp_us = static_cast<uint32_t>(mid);
     m.exposure_us = static_cast<uint32_t>(config_.exposure_us);
     m.readout_us = static_cast<uint32_t>(config_.readout_us);
     m.frame_interval_us = 33333;
-    v4l2_.deliver(devRoot() + "/video1", d4xxMetadataBlock(m), std::llround(arrival));
+    v4l2_.deliver(meta, d4xxMetadataBlock(m), std::llround(arrival));
   }
-  const int bpp = s.fourcc == v4l2_fourcc('G', 'R', 'E', 'Y') ? 1 : 2;
+  // GREY: 100 everywhere; Y8I: left 100, right 200; YUYV: luma 100, chroma 128 (grey). The first
+  // two (left / luma) pixels hold the frame index.
+  const bool one_byte = s.fourcc == v4l2_fourcc('G', 'R', 'E', 'Y');
+  const int bpp = one_byte ? 1 : 2;
   std::vector<uint8_t> image(static_cast<size_t>(s.width) * s.height * bpp, 0);
   for (size_t i = 0; i < image.size(); i += bpp) {
     image[i] = 100;
-    if (bpp == 2) image[i + 1] = 200;
+    if (bpp == 2) image[i + 1] = colour ? 128 : 200;
   }
   image[0] = static_cast<uint8_t>(f & 0xff);
   image[bpp] = static_cast<uint8_t>((f >> 8) & 0xff);
-  v4l2_.deliver(devRoot() + "/video0", image, std::llround(arrival));
+  v4l2_.deliver(video, image, std::llround(arrival));
   ++frames_;
 }
 

@@ -11,8 +11,9 @@
 // The samples encode what they are, so tests can check the delivered stream against the truth:
 //   gyro k     raw counts (k mod 30000, 300, -450), device time t0 + 2500 k us
 //   accel j    raw counts (j, 0, -1000) (1 g down the raw z axis: lying on its back), t0 + 4000 j us
-//   frame f    mid-exposure at device time t0 + 10000 + 33333 f us; left image pixel (0,0) = f mod
-//              256, (0,1) = f / 256, the rest 100; right image 200 everywhere
+//   frame f    mid-exposure at device time t0 + 10000 + 33333 f us; left image (or colour luma)
+//              pixel (0,0) = f mod 256, (0,1) = f / 256, the rest 100; right image 200 everywhere,
+//              colour chroma 128 (grey)
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
