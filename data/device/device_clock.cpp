@@ -42,26 +42,18 @@ void DeviceClockMapper::addPair(int64_t device_us, int64_t host_ns) {
   ++count_;
   dirty_ = true;
   const Pair pair{device_us, host_ns};
-  const int64_t bucket = bucketOf(device_us);
-  if (has_current_ && bucket == current_bucket_) {
-    if (delay(pair) < delay(current_)) current_ = pair;
+  const int64_t index = bucketOf(device_us);
+  // Usually the newest bucket or a new one; a late pair (another stream's) goes to its own bucket.
+  for (auto b = buckets_.rbegin(); b != buckets_.rend() && b->index >= index; ++b) {
+    if (b->index != index) continue;
+    ++b->pairs;
+    if (delay(pair) < delay(b->best)) b->best = pair;
     return;
   }
-  if (has_current_ && bucket < current_bucket_) {  // a late pair of an older bucket: fold it in
-    for (Pair& b : buckets_) {
-      if (bucketOf(b.device_us) == bucket) {
-        if (delay(pair) < delay(b)) b = pair;
-        return;
-      }
-    }
-    return;  // its bucket has left the window, or held no pair: too old to matter
-  }
-  if (has_current_) buckets_.push_back(current_);
-  current_ = pair;
-  current_bucket_ = bucket;
-  has_current_ = true;
+  if (!buckets_.empty() && index < buckets_.back().index) return;  // its bucket has left the window
+  buckets_.push_back({index, pair, 1});
   const int64_t window_us = std::llround(options_.window_s * 1e6);
-  while (!buckets_.empty() && buckets_.front().device_us < device_us - window_us) buckets_.pop_front();
+  while (buckets_.size() > 2 && buckets_.front().best.device_us < device_us - window_us) buckets_.pop_front();
 }
 
 int64_t DeviceClockMapper::bucketOf(int64_t device_us) const {
@@ -83,30 +75,28 @@ void DeviceClockMapper::refit() const {
   const auto y = [this](const Pair& p) {
     return static_cast<double>((p.host_ns - origin_host_ns_) - (p.device_us - origin_device_us_) * 1000);
   };
-  // The slope from the completed buckets only: the bucket being filled may hold a single, delayed
-  // pair at the end of the line. It is the slope of the lower convex hull of the buckets' pairs
-  // at their mean device time: of all lines below every pair, the one closest to them on average
-  // (the linear program of one-way clock-skew estimation); buckets whose best pair was still
-  // delayed lie above the hull and do not tilt it.
+  // The slope from the completed buckets only (all but the newest): the bucket being filled may
+  // hold a single, delayed pair at the end of the line, where it would tilt it most. It is the
+  // slope of the lower convex hull at the pairs' mean device time.
   slope_ = 0.0;
-  const bool rate_known = buckets_.size() >= 2 && x(buckets_.back()) - x(buckets_.front()) >= options_.min_span_s * 1e6;
-  if (rate_known) {
+  const size_t completed = buckets_.empty() ? 0 : buckets_.size() - 1;
+  if (completed >= 2 && x(buckets_[completed - 1].best) - x(buckets_.front().best) >= options_.min_span_s * 1e6) {
     std::vector<std::pair<double, double>> hull;  // lower hull, x increasing (monotone chain)
     double mean_x = 0;
-    for (const Pair& p : buckets_) {
-      const std::pair<double, double> q{x(p), y(p)};
+    for (size_t i = 0; i < completed; ++i) {
+      const std::pair<double, double> q{x(buckets_[i].best), y(buckets_[i].best)};
       mean_x += q.first;
       while (hull.size() >= 2) {
         const auto& a = hull[hull.size() - 2];
         const auto& b = hull.back();
-        // Drop b unless a -> b -> q turns left (b below the segment a-q).
+        // Keep b only if a -> b -> q turns left (b below the segment a-q).
         const double cross = (b.first - a.first) * (q.second - a.second) - (b.second - a.second) * (q.first - a.first);
         if (cross > 0) break;
         hull.pop_back();
       }
       hull.push_back(q);
     }
-    mean_x /= static_cast<double>(buckets_.size());
+    mean_x /= static_cast<double>(completed);
     for (size_t i = 1; i < hull.size(); ++i) {
       if (hull[i].first >= mean_x || i + 1 == hull.size()) {
         slope_ = (hull[i].second - hull[i - 1].second) / (hull[i].first - hull[i - 1].first);
@@ -114,13 +104,17 @@ void DeviceClockMapper::refit() const {
       }
     }
   }
-  // The intercept: the lowest line through the newest buckets' pairs (the bucket filling among
-  // them); only the newest two while the rate is unknown, the rate error growing with the distance.
-  intercept_ = has_current_ ? y(current_) - slope_ * x(current_) : std::numeric_limits<double>::max();
-  const int anchors = rate_known ? options_.anchor_buckets : std::min(2, options_.anchor_buckets);
-  const size_t completed = static_cast<size_t>(std::max(0, anchors - (has_current_ ? 1 : 0)));
-  for (size_t i = buckets_.size() - std::min(completed, buckets_.size()); i < buckets_.size(); ++i)
-    intercept_ = std::min(intercept_, y(buckets_[i]) - slope_ * x(buckets_[i]));
+  // The intercept: the lowest line (of that slope) through the newest buckets' best pairs, going
+  // back until they hold anchor_pairs pairs, and at least two buckets.
+  intercept_ = std::numeric_limits<double>::max();
+  int pairs = 0;
+  size_t used = 0;
+  for (auto b = buckets_.rbegin(); b != buckets_.rend(); ++b) {
+    if (used >= 2 && pairs >= options_.anchor_pairs) break;
+    intercept_ = std::min(intercept_, y(b->best) - slope_ * x(b->best));
+    pairs += b->pairs;
+    ++used;
+  }
 }
 
 int64_t DeviceClockMapper::toHostNs(int64_t device_us) const {
@@ -131,7 +125,8 @@ int64_t DeviceClockMapper::toHostNs(int64_t device_us) const {
 
 double DeviceClockMapper::driftPpm() const {
   refit();
-  return slope_ * 1e3;  // ns per us -> ppm: 1 ns/us = 1000 ppm
+  // slope_ is the host's excess over 1000 ns per device us: negative when the device runs fast.
+  return -slope_ * 1e3;  // 1 ns/us = 1000 ppm
 }
 
 }  // namespace adugs::data

@@ -8,20 +8,20 @@
 //
 // The fit:
 //   - pairs are kept per bucket_s of device time, the least delayed pair (smallest host - device
-//     difference after the fitted rate error) standing for its bucket; buckets older than
-//     window_s go;
+//     difference after the fitted rate) standing for its bucket; buckets older than window_s go;
 //   - the slope (the device's rate error, a few tens of ppm, changing with temperature) is that
 //     of the lower convex hull of the completed buckets' pairs at their mean time: of the lines
 //     below every pair the one closest to them on average (the linear program of one-way clock
 //     skew estimation, Moon et al. 1999), which buckets whose best pair was still delayed do not
 //     tilt as they would a least-squares line; 1 until those pairs span min_span_s;
-//   - the intercept puts the line on the lower envelope of the newest anchor_buckets buckets (the
-//     smallest latency seen lately; the newest two buckets while the rate is unknown): latencies
-//     are one-sided (a measurement never arrives before it happened), so the envelope does not
-//     carry the mean latency or its jitter as a least-squares intercept would, and anchoring it on
-//     recent pairs keeps the slope's error from being multiplied by a long lever arm. The mapped stamp is the host time of the event plus
-//     the minimum latency, a constant that the camera-IMU time offset absorbs; all the device's
-//     streams share it.
+//   - the intercept puts the line on the lower envelope of the newest buckets holding at least
+//     anchor_pairs pairs (at least the newest two buckets; half a second of IMU pairs, several
+//     seconds of frame pairs): latencies are one-sided (a measurement never arrives before it
+//     happened), so the envelope does not carry the mean latency or its jitter as a least-squares
+//     intercept would, the more pairs the closer it gets to the smallest latency, and anchoring it
+//     on recent pairs keeps the slope's error from being multiplied by a long lever arm.
+// The mapped stamp is the host time of the event plus the minimum latency, a constant that the
+// camera-IMU time offset absorbs; all the device's streams share it.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -44,10 +44,10 @@ class CounterUnwrapper {
 };
 
 struct DeviceClockOptions {
-  double window_s = 30.0;  // pairs older than this (device time) are forgotten
-  double bucket_s = 1.0;   // one pair per bucket goes into the fit
-  double min_span_s = 1.5; // below this span of pairs the slope is taken as exactly 1
-  int anchor_buckets = 5;  // the intercept's envelope: the newest buckets (including the one filling)
+  double window_s = 30.0;   // pairs older than this (device time) are forgotten
+  double bucket_s = 0.5;    // one pair per bucket goes into the fit
+  double min_span_s = 1.0;  // below this span of the buckets' pairs the slope is taken as exactly 1
+  int anchor_pairs = 800;   // the intercept's envelope: the newest buckets holding this many pairs
 };
 
 class DeviceClockMapper {
@@ -59,7 +59,8 @@ class DeviceClockMapper {
   bool ready() const { return count_ > 0; }
   // Host CLOCK_MONOTONIC time [ns] of device time `device_us` (unwrapped). Needs ready().
   int64_t toHostNs(int64_t device_us) const;
-  // The fitted rate error of the device clock [ppm] (0 before min_span_s of pairs).
+  // The fitted rate error of the device clock [ppm]: positive when it runs fast (0 before
+  // min_span_s of pairs).
   double driftPpm() const;
   size_t pairs() const { return count_; }
 
@@ -68,16 +69,18 @@ class DeviceClockMapper {
     int64_t device_us;
     int64_t host_ns;
   };
+  struct Bucket {
+    int64_t index;  // floor((device_us - origin) / bucket_s)
+    Pair best;      // its least delayed pair
+    int pairs;      // how many pairs it saw
+  };
   int64_t bucketOf(int64_t device_us) const;
   // Latency plus clock offset of a pair, less the fitted rate error: what a bucket keeps the least of.
   double delay(const Pair& p) const;
   void refit() const;
 
   DeviceClockOptions options_;
-  std::deque<Pair> buckets_;  // least delayed pair of each completed bucket, oldest first
-  bool has_current_ = false;
-  Pair current_{};            // least delayed pair of the bucket being filled
-  int64_t current_bucket_ = 0;
+  std::deque<Bucket> buckets_;  // oldest first; the last one is being filled
   size_t count_ = 0;
   int64_t origin_device_us_ = 0, origin_host_ns_ = 0;  // keeps the fit's numbers small
   mutable bool dirty_ = true;

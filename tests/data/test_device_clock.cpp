@@ -32,14 +32,14 @@ TEST(CounterUnwrapper, CrossesTheWrapAndAcceptsSmallStepsBack) {
   EXPECT_GT(expected, static_cast<int64_t>(3 * kWrap));
 }
 
-// A simulated device: its counter reads `device_us` when the host clock reads
-// host0 + (device_us - device0) * 1000 * (1 + drift) ns.
+// A simulated device whose clock runs `drift` fast: its counter reads `device_us` when the host
+// clock reads host0 + (device_us - device0) * 1000 / (1 + drift) ns.
 struct SimulatedDevice {
   int64_t device0_us = static_cast<int64_t>(kWrap) - 5'000'000;  // wraps 5 s into the run
   int64_t host0_ns = 987'654'321'000;
   double drift = 50e-6;
   double hostNs(int64_t device_us) const {
-    return static_cast<double>(host0_ns) + static_cast<double>(device_us - device0_us) * 1000.0 * (1.0 + drift);
+    return static_cast<double>(host0_ns) + static_cast<double>(device_us - device0_us) * 1000.0 / (1.0 + drift);
   }
 };
 
@@ -73,7 +73,8 @@ ClockRun runClock(int64_t period_us, double duration_s, double min_latency_us, J
 
 TEST(DeviceClockMapper, ImuRateWithUniformJitterStaysWithin0_2ms) {
   // 400 Hz pairs (the IMU), 0.8 ms + 0..2 ms latency; checked from 2 s on (the rate is fitted
-  // after 2.5 s: until then the envelope of the newest second alone keeps the error small).
+  // once the completed half-second buckets span 1 s: until then the envelope of the newest two
+  // buckets alone keeps the error small).
   for (unsigned seed = 1; seed <= 5; ++seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> jitter_us(0.0, 2000.0);
