@@ -189,9 +189,8 @@ void D435iSource::applyControls(V4l2Io& io) {
     } else if (!c.setAutoExposure(true)) {
       std::cerr << "warning: d435i: auto exposure: " << c.error() << "\n";
     }
-  } else if (!setUvcExposure(io, video_->fd(), options_.exposure_us, options_.gain, &stop_reason_)) {
-    std::cerr << "warning: d435i: " << stop_reason_ << "\n";
-    stop_reason_.clear();
+  } else if (std::string error; !setUvcExposure(io, video_->fd(), options_.exposure_us, options_.gain, &error)) {
+    std::cerr << "warning: d435i: " << video_->path() << ": " << error << "\n";
   }
 }
 
@@ -408,23 +407,23 @@ void D435iSource::onImu(IioSensor& sensor, bool accel) {
   last_imu_arrival_ = now;
   if (imu_stamp_kind_ == 0) {
     // Kernels whose hid-sensor drivers take the HID timestamp give the device's microsecond
-    // counter (in ns); older ones stamp records with a host clock (realtime by default).
-    const int64_t t = samples.front().timestamp_ns;
-    const int64_t realtime = clockNs(CLOCK_REALTIME);
-    const int64_t near = 10'000'000'000;
-    if (std::llabs(t - now) < near) {
+    // counter (in ns); older ones stamp records with the host clock named in sysfs.
+    const std::string& name = sensor.hostStampClock();
+    const clockid_t id = name == "monotonic" ? CLOCK_MONOTONIC
+                         : name == "monotonic_raw" ? CLOCK_MONOTONIC_RAW
+                         : name == "boottime" ? CLOCK_BOOTTIME
+                                              : CLOCK_REALTIME;
+    const int64_t host = clockNs(id);
+    if (std::llabs(samples.front().timestamp_ns - host) < 10'000'000'000) {
       imu_stamp_kind_ = 2;
-    } else if (std::llabs(t - realtime) < near) {
-      imu_stamp_kind_ = 2;
-      imu_host_offset_ns_ = realtime - now;
+      imu_host_offset_ns_ = host - now;  // that clock minus CLOCK_MONOTONIC
+      std::cerr << "warning: d435i: the IIO records carry host stamps (" << name
+                << "), not the camera's (a kernel whose hid-sensor drivers ignore the HID timestamp): IMU and frames "
+                   "are on different clocks; keep estimator.estimate_time_offset on\n";
     } else {
       imu_stamp_kind_ = 1;
     }
     stats_.imu_device_stamps = imu_stamp_kind_ == 1;
-    if (imu_stamp_kind_ == 2)
-      std::cerr << "warning: d435i: the IIO records carry host stamps, not the camera's (a kernel whose hid-sensor "
-                   "drivers ignore the HID timestamp): IMU and frames are on different clocks; keep "
-                   "estimator.estimate_time_offset on\n";
   }
   int64_t newest_device = 0;
   for (const IioSample& s : samples) {

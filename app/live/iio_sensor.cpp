@@ -118,6 +118,10 @@ IioSensor::IioSensor(const UsbIioDevice& device, const std::string& type, double
     const std::string number = fs::path(device.sys_dir).filename().string().substr(std::strlen("iio:device"));
     writeAttribute("trigger/current_trigger", device.name + "-dev" + number, false);
   }
+  // Host stamps, if the kernel stamps records itself, on the realtime clock: about 1.7e18 ns, far
+  // from any device counter (< 2^32 us), which a monotonic clock of a young host is not.
+  writeAttribute("current_timestamp_clock", "realtime", false);
+  readText(fs::path(device.sys_dir) / "current_timestamp_clock", &host_stamp_clock_);
   writeAttribute("buffer/length", std::to_string(buffer_records), false);
   writeAttribute("buffer/enable", "1", true);
   buffer_enabled_ = true;

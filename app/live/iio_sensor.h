@@ -10,7 +10,8 @@
 //   buffer/length, buffer/enable             kernel FIFO length in records, streaming on/off
 //   trigger/current_trigger                  the HID driver's own trigger, "<name>-dev<N>"
 //   current_timestamp_clock                  which clock stamps records when the device sends no
-//                                            timestamp of its own (realtime by default)
+//                                            timestamp of its own (realtime by default; set to
+//                                            realtime on open, which device stamps never come near)
 // Setting up is an InputError naming the sysfs file when it cannot be read or written (usually
 // permissions: the udev rule of the README). While streaming, a read error or end of file (the
 // device went away) ends the sensor (gone()) with a message instead of throwing.
@@ -59,6 +60,9 @@ class IioSensor {
   // Meaningful bits of the x axis (16 or 32 on a D4xx: the firmware's data width).
   int axisRealBits() const { return channels_[axis_[0]].type.real_bits; }
   size_t recordBytes() const { return record_bytes_; }
+  // The clock the kernel stamps records with when the device sends no timestamp of its own
+  // (current_timestamp_clock: "realtime", set on open when permitted; "monotonic", "boottime"...).
+  const std::string& hostStampClock() const { return host_stamp_clock_; }
 
   // Appends every complete record available now. False once the device is gone.
   bool read(std::vector<IioSample>* out);
@@ -75,6 +79,7 @@ class IioSensor {
   size_t timestamp_ = 0;
   size_t record_bytes_ = 0;
   double rate_hz_ = 0;
+  std::string host_stamp_clock_ = "realtime";
   int fd_ = -1;
   bool buffer_enabled_ = false;
   std::vector<uint8_t> pending_;  // bytes of a record cut by a read

@@ -192,6 +192,7 @@ TEST(IioSensor, EnablesTheScanReadsRecordsAndStopsWhenTheDeviceCloses) {
     EXPECT_EQ(readFile(gyro_dir / "buffer/length"), "512");
     EXPECT_EQ(readFile(gyro_dir / "buffer/enable"), "1");
     EXPECT_EQ(readFile(gyro_dir / "trigger/current_trigger"), "gyro_3d-dev2");
+    EXPECT_EQ(gyro.hostStampClock(), "realtime");
     EXPECT_EQ(gyro.axisRealBits(), 32);
     EXPECT_EQ(gyro.recordBytes(), 24u);
 
