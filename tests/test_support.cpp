@@ -48,6 +48,13 @@ void writeText(const fs::path& file, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
+std::string readFirstLine(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
 int runAdugs(const std::string& args, std::string* output) {
   return runCommand(std::string(ADUGS_BINARY) + " " + args, output);
 }

@@ -32,6 +32,8 @@ class TempDir {
 
 // Writes text to a file (creating parent directories).
 void writeText(const std::filesystem::path& file, const std::string& text);
+// The first line of a file, without its newline ("" when it cannot be read), e.g. a sysfs attribute.
+std::string readFirstLine(const std::filesystem::path& file);
 
 // Runs a shell command; returns its exit code; stdout+stderr go to *output.
 int runCommand(const std::string& command, std::string* output);

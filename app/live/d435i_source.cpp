@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "app/live/camera_nodes.h"
+#include "app/live/host_clock.h"
 #include "app/live/usb_device_tree.h"
 #include "app/live/visp_realsense2_source.h"
 #include "data/device/realsense_imu.h"
@@ -23,13 +24,6 @@
 
 namespace adugs::app {
 namespace {
-
-int64_t clockNs(clockid_t id) {
-  timespec ts{};
-  clock_gettime(id, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-int64_t monotonicNs() { return clockNs(CLOCK_MONOTONIC); }
 
 std::string sizesText(const V4l2FormatInfo& f) {
   std::ostringstream s;
@@ -413,7 +407,7 @@ void D435iSource::onImu(IioSensor& sensor, bool accel) {
                          : name == "monotonic_raw" ? CLOCK_MONOTONIC_RAW
                          : name == "boottime" ? CLOCK_BOOTTIME
                                               : CLOCK_REALTIME;
-    const int64_t host = clockNs(id);
+    const int64_t host = hostClockNs(id);
     if (std::llabs(samples.front().timestamp_ns - host) < 10'000'000'000) {
       imu_stamp_kind_ = 2;
       imu_host_offset_ns_ = host - now;  // that clock minus CLOCK_MONOTONIC

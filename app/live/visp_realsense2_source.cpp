@@ -16,6 +16,7 @@
 #include <librealsense2/rs.hpp>
 #include <visp3/sensor/vpRealSense2.h>
 
+#include "app/live/host_clock.h"
 #include "app/live/time_ordered_merge.h"
 #include "data/device/pixel_formats.h"
 #include "data/imu_unifier.h"
@@ -23,18 +24,12 @@
 namespace adugs::app {
 namespace {
 
-int64_t clockNs(clockid_t id) {
-  timespec ts{};
-  clock_gettime(id, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
 class VispRealSense2Source : public data::SequenceSource {
  public:
   VispRealSense2Source(const D435iOptions& options, int64_t image_time_shift_ns)
       : options_(options), image_time_shift_ns_(image_time_shift_ns) {
     // librealsense stamps in the global time domain: the host's system clock (realtime), in ms.
-    realtime_minus_monotonic_ns_ = clockNs(CLOCK_REALTIME) - clockNs(CLOCK_MONOTONIC);
+    realtime_minus_monotonic_ns_ = hostClockNs(CLOCK_REALTIME) - monotonicNs();
     rs2::config config;
     if (!options.serial.empty()) config.enable_device(options.serial);
     if (options.stream == "infrared")
@@ -75,13 +70,13 @@ class VispRealSense2Source : public data::SequenceSource {
   bool next(data::Measurement& m) override {
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-      if (merge_.pop(clockNs(CLOCK_MONOTONIC), &m, stopped_)) return true;
+      if (merge_.pop(monotonicNs(), &m, stopped_)) return true;
       if (stopped_) return false;
       const int64_t deadline = merge_.releaseDeadlineNs();
       const int64_t wait_ms =
-          deadline == INT64_MAX ? 100 : std::clamp<int64_t>((deadline - clockNs(CLOCK_MONOTONIC)) / 1'000'000 + 1, 0, 100);
+          deadline == INT64_MAX ? 100 : std::clamp<int64_t>((deadline - monotonicNs()) / 1'000'000 + 1, 0, 100);
       if (!arrived_.wait_for(lock, std::chrono::milliseconds(wait_ms), [this] { return fresh_ || stopped_; }) &&
-          clockNs(CLOCK_MONOTONIC) - last_arrival_ns_ > static_cast<int64_t>(options_.stall_timeout_s * 1e9)) {
+          monotonicNs() - last_arrival_ns_ > static_cast<int64_t>(options_.stall_timeout_s * 1e9)) {
         stopped_ = true;
         reason_ = "no data from librealsense for " + std::to_string(options_.stall_timeout_s) + " s (camera unplugged?)";
       }
@@ -124,7 +119,7 @@ class VispRealSense2Source : public data::SequenceSource {
     int64_t t = static_cast<int64_t>(f.get_timestamp() * 1e6) - realtime_minus_monotonic_ns_;
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopped_) return;
-    last_arrival_ns_ = clockNs(CLOCK_MONOTONIC);
+    last_arrival_ns_ = monotonicNs();
     const rs2_stream type = f.get_profile().stream_type();
     if (const rs2::motion_frame motion = f.as<rs2::motion_frame>()) {
       const rs2_vector v = motion.get_motion_data();
@@ -178,7 +173,7 @@ class VispRealSense2Source : public data::SequenceSource {
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
   bool fresh_ = false, stopped_ = false;
-  int64_t last_arrival_ns_ = clockNs(CLOCK_MONOTONIC);
+  int64_t last_arrival_ns_ = monotonicNs();
   std::string reason_;
   data::ImuUnifier unifier_;
   TimeOrderedMerge merge_;

@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <thread>
 
 #include <linux/videodev2.h>
@@ -23,13 +22,6 @@ namespace adugs::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::string s;
-  std::getline(in, s);
-  return s;
-}
 
 struct Stream {
   std::vector<data::Measurement> all;
@@ -136,9 +128,9 @@ TEST(D435iSource, OneTimeOrderedStreamOnTheDeviceClock) {
     EXPECT_EQ(fake.v4l2().state(node).xu.at(2), (std::vector<uint8_t>{0}));     // emitter off
     EXPECT_EQ(fake.v4l2().state(node).xu.at(0x0B), (std::vector<uint8_t>{1}));  // auto exposure
     EXPECT_EQ(fake.v4l2().state(fake.devRoot() + "/video1").meta_format, v4l2_fourcc('D', '4', 'X', 'X'));
-    EXPECT_EQ(readFile(fake.iioDir("accel_3d") / "in_accel_sampling_frequency"), "250");
-    EXPECT_EQ(readFile(fake.iioDir("gyro_3d") / "in_anglvel_sampling_frequency"), "400");
-    EXPECT_EQ(readFile(fake.iioDir("gyro_3d") / "buffer/enable"), "1");
+    EXPECT_EQ(test::readFirstLine(fake.iioDir("accel_3d") / "in_accel_sampling_frequency"), "250");
+    EXPECT_EQ(test::readFirstLine(fake.iioDir("gyro_3d") / "in_anglvel_sampling_frequency"), "400");
+    EXPECT_EQ(test::readFirstLine(fake.iioDir("gyro_3d") / "buffer/enable"), "1");
     fake.start();
     const Stream s = collect(source, 2.5);  // the device counter wraps 1.5 s in
     fake.stop();
@@ -154,7 +146,7 @@ TEST(D435iSource, OneTimeOrderedStreamOnTheDeviceClock) {
     EXPECT_EQ(st.imu_out_of_order, 0u);
   }
   // Closed: streaming off, the emitter back as it was.
-  EXPECT_EQ(readFile(fake.iioDir("gyro_3d") / "buffer/enable"), "0");
+  EXPECT_EQ(test::readFirstLine(fake.iioDir("gyro_3d") / "buffer/enable"), "0");
   EXPECT_FALSE(fake.v4l2().state(fake.devRoot() + "/video0").streaming);
   EXPECT_EQ(fake.v4l2().state(fake.devRoot() + "/video0").xu.at(2), (std::vector<uint8_t>{1}));
 }

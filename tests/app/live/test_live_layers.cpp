@@ -8,7 +8,6 @@
 #include <poll.h>
 #include <unistd.h>
 
-#include <fstream>
 
 #include "app/live/d4xx_controls.h"
 #include "app/live/iio_sensor.h"
@@ -23,13 +22,6 @@ namespace adugs::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::string s;
-  std::getline(in, s);
-  return s;
-}
 
 bool readable(int fd, int timeout_ms) {
   pollfd p{fd, POLLIN, 0};
@@ -185,13 +177,13 @@ TEST(IioSensor, EnablesTheScanReadsRecordsAndStopsWhenTheDeviceCloses) {
   const fs::path gyro_dir = fake.iioDir("gyro_3d");
   {
     IioSensor gyro(cam.iio[1], "anglvel", 400, 512);
-    EXPECT_EQ(readFile(gyro_dir / "scan_elements/in_anglvel_x_en"), "1");
-    EXPECT_EQ(readFile(gyro_dir / "scan_elements/in_timestamp_en"), "1");
-    EXPECT_EQ(readFile(gyro_dir / "in_anglvel_sampling_frequency"), "400");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "scan_elements/in_anglvel_x_en"), "1");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "scan_elements/in_timestamp_en"), "1");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "in_anglvel_sampling_frequency"), "400");
     EXPECT_EQ(gyro.rateHz(), 400.0);
-    EXPECT_EQ(readFile(gyro_dir / "buffer/length"), "512");
-    EXPECT_EQ(readFile(gyro_dir / "buffer/enable"), "1");
-    EXPECT_EQ(readFile(gyro_dir / "trigger/current_trigger"), "gyro_3d-dev2");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "buffer/length"), "512");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "buffer/enable"), "1");
+    EXPECT_EQ(test::readFirstLine(gyro_dir / "trigger/current_trigger"), "gyro_3d-dev2");
     EXPECT_EQ(gyro.hostStampClock(), "realtime");
     EXPECT_EQ(gyro.axisRealBits(), 32);
     EXPECT_EQ(gyro.recordBytes(), 24u);
@@ -220,7 +212,7 @@ TEST(IioSensor, EnablesTheScanReadsRecordsAndStopsWhenTheDeviceCloses) {
     EXPECT_NE(gyro.message().find("iio:device2"), std::string::npos) << gyro.message();
     EXPECT_NE(gyro.message().find("closed"), std::string::npos) << gyro.message();
   }
-  EXPECT_EQ(readFile(gyro_dir / "buffer/enable"), "0");  // streaming off again
+  EXPECT_EQ(test::readFirstLine(gyro_dir / "buffer/enable"), "0");  // streaming off again
 }
 
 TEST(IioSensor, BadScanElementsNameTheirFile) {
