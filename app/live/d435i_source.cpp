@@ -82,13 +82,15 @@ D435iSource::D435iSource(const D435iOptions& options, V4l2Io& io, int64_t image_
   if (!camera->speed.empty() && std::atof(camera->speed.c_str()) < 5000)
     std::cerr << "warning: d435i: the camera runs at USB " << camera->speed
               << " Mb/s (USB 2): few modes, frames may be dropped; use a USB 3 port and cable\n";
-  stop_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  // Everything that may refuse first; the camera's controls change only once nothing can.
   openCamera(*camera, io);
   frame_stream_ = merge_.addStream(options.frame_latency_s);
   if (options.imu) {
     openImu(*camera);
     imu_stream_ = merge_.addStream(options.imu_latency_s);
   }
+  startStreaming(io);
+  stop_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   std::ostringstream d;
   d << "RealSense " << (camera->product.empty() ? options.usb_id : camera->product) << " serial "
     << (camera->serial.empty() ? "?" : camera->serial) << " (USB " << camera->bus_port << "): " << video_->path()
@@ -156,10 +158,23 @@ void D435iSource::openCamera(const UsbCamera& camera, V4l2Io& io) {
     std::cerr << "warning: d435i: no metadata node" << (options_.metadata ? "" : " (metadata: false)")
               << ": frames are stamped by the host when they arrive, after exposure and readout, and the IMU by the "
                  "camera: keep estimator.estimate_time_offset on\n";
-  applyControls(io);
-  if (meta_) meta_->start(options_.buffers + 2);  // metadata first, so no frame misses its buffer
-  video_->start(options_.buffers);
   stats_.device_clock = meta_ != nullptr;
+}
+
+void D435iSource::startStreaming(V4l2Io& io) {
+  applyControls(io);
+  try {
+    if (meta_) meta_->start(options_.buffers + 2);  // metadata first, so no frame misses its buffer
+    video_->start(options_.buffers);
+  } catch (...) {
+    restoreControls();
+    throw;
+  }
+}
+
+void D435iSource::restoreControls() {
+  if (restore_emitter_ >= 0 && controls_) controls_->setEmitter(static_cast<uint8_t>(restore_emitter_));
+  restore_emitter_ = -1;
 }
 
 void D435iSource::applyControls(V4l2Io& io) {
@@ -215,7 +230,7 @@ void D435iSource::openImu(const UsbCamera& camera) {
 }
 
 D435iSource::~D435iSource() {
-  if (restore_emitter_ >= 0 && controls_) controls_->setEmitter(static_cast<uint8_t>(restore_emitter_));
+  restoreControls();
   controls_.reset();
   meta_.reset();
   video_.reset();

@@ -83,6 +83,8 @@ class D435iSource : public data::SequenceSource {
   void openCamera(const UsbCamera& camera, V4l2Io& io);
   void openImu(const UsbCamera& camera);
   void applyControls(V4l2Io& io);
+  void startStreaming(V4l2Io& io);  // controls, then streams (controls put back if that fails)
+  void restoreControls();
   void pump(int timeout_ms);
   void onVideo();
   void onMetadata();

@@ -377,8 +377,12 @@ TEST(D435iSource, RefusesWhatTheCameraCannotDo) {
   o.width = 1280;
   o.height = 720;
   expectError(o, "1280x720 at 90 Hz");
-  // Nothing was left streaming by the failed attempts.
+  test::writeText(fake.iioDir("gyro_3d") / "scan_elements/in_anglvel_y_type", "le:s16\n");  // a broken IMU
+  expectError(fake.options(), "in_anglvel_y_type");
+  // Nothing was left streaming by the failed attempts, and the emitter was not touched.
   EXPECT_FALSE(fake.v4l2().state(fake.devRoot() + "/video0").streaming);
+  EXPECT_EQ(fake.v4l2().state(fake.devRoot() + "/video0").xu.at(2), (std::vector<uint8_t>{1}));
+  EXPECT_EQ(test::readFirstLine(fake.iioDir("accel_3d") / "buffer/enable"), "0");
 }
 
 TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
