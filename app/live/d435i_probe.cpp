@@ -98,7 +98,8 @@ void printIio(std::ostream& out, const UsbIioDevice& d) {
     out << "      sampling frequency: "
         << (info.sampling_frequency_file.empty() ? "no file" : info.sampling_frequency + " Hz (" + info.sampling_frequency_file + ")");
     if (!info.sampling_frequency_available.empty()) out << ", available " << info.sampling_frequency_available;
-    out << "; kernel scale " << (info.scale.empty() ? "-" : info.scale) << "; timestamp clock "
+    out << "; kernel scale " << (info.scale.empty() ? "-" : info.scale) << "; hysteresis "
+        << (info.hysteresis.empty() ? "-" : info.hysteresis) << "; timestamp clock "
         << (info.timestamp_clock.empty() ? "-" : info.timestamp_clock) << "\n";
     for (const data::IioChannel& c : info.channels) {
       if (c.name == "anglvel_x") {

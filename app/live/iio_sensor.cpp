@@ -82,6 +82,7 @@ IioDeviceInfo readIioDeviceInfo(const UsbIioDevice& device, const std::string& t
     readText(dir / (info.sampling_frequency_file + "_available"), &info.sampling_frequency_available);
   }
   readText(dir / ("in_" + type + "_scale"), &info.scale);
+  readText(dir / ("in_" + type + "_hysteresis"), &info.hysteresis);
   readText(dir / "current_timestamp_clock", &info.timestamp_clock);
   return info;
 }

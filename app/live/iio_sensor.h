@@ -35,6 +35,8 @@ struct IioDeviceInfo {
   std::string sampling_frequency;          // its text
   std::string sampling_frequency_available;
   std::string scale;                       // in_<type>_scale (the kernel's idea of the unit)
+  std::string hysteresis;                  // in_<type>_hysteresis: on D4xx firmware 5.16+ the IMU
+                                           // range (librealsense's gyro/accel sensitivity); left alone
   std::string timestamp_clock;             // current_timestamp_clock
 };
 // `type` is the channel type whose rate and scale files are read ("accel", "anglvel").

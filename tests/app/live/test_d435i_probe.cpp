@@ -23,7 +23,7 @@ TEST(D435iProbe, ListsNodesFormatsControlsIioDevicesAndScales) {
                              "Y8I ", "/video1  metadata", "formats: D4XX UVCH", "YUYV",
                              "emitter 1 (laser), auto exposure on, exposure 10000 us, gain 16",
                              "/iio:device1  accel_3d", "accel_x      index 0, le:s16/32>>0", "timestamp    index 3, le:s64/64>>0",
-                             "in_accel_sampling_frequency", "timestamp clock realtime",
+                             "in_accel_sampling_frequency", "hysteresis 0; timestamp clock realtime",
                              "gyro data 16-bit: 0.100000 deg/s per LSB (firmware before 5.16)",
                              "the options would use: infrared ", "/video0 + metadata "})
     EXPECT_NE(s.find(needle), std::string::npos) << needle << "\n" << s;
