@@ -336,6 +336,7 @@ void D435iSource::onVideo() {
     }
     const auto m = metadata_waiting_.find(sequence);
     if (m != metadata_waiting_.end()) {
+      frames_unmatched_in_a_row_ = 0;
       frameWithMetadata(image, colour, m->second);
       metadata_waiting_.erase(metadata_waiting_.begin(), std::next(m));  // older ones lost their frame
     } else {
@@ -348,7 +349,20 @@ void D435iSource::onVideo() {
           frames_waiting_.size() > 3)) {
     frames_waiting_.erase(frames_waiting_.begin());
     ++stats_.frames_without_metadata;
+    if (++frames_unmatched_in_a_row_ >= kMetadataGiveUp) stopUsingMetadata();
   }
+}
+
+void D435iSource::stopUsingMetadata() {
+  // A metadata node that streams nothing the frames can be matched with (its frame counter is not
+  // the video node's, or it delivers nothing) must not silence the camera: the driver's stamps then.
+  std::cerr << "warning: d435i: " << kMetadataGiveUp << " frames in a row found no metadata on " << meta_->path()
+            << ": stamping frames on arrival from now on (keep estimator.estimate_time_offset on)\n";
+  meta_.reset();
+  stats_.device_clock = false;
+  for (auto& [sequence, frame] : frames_waiting_) queueFrame(frame.host_ns + image_time_shift_ns_, frame.image, frame.colour);
+  frames_waiting_.clear();
+  metadata_waiting_.clear();
 }
 
 void D435iSource::onMetadata() {
@@ -362,6 +376,7 @@ void D435iSource::onMetadata() {
     if (meta.has_pts) clock_.addPair(unwrapper_.unwrap(meta.pts_us), meta.host_ns);  // readout start vs arrival
     const auto f = frames_waiting_.find(sequence);
     if (f != frames_waiting_.end()) {
+      frames_unmatched_in_a_row_ = 0;
       frameWithMetadata(f->second.image, f->second.colour, meta);
       stats_.frames_without_metadata += static_cast<size_t>(std::distance(frames_waiting_.begin(), f));
       frames_waiting_.erase(frames_waiting_.begin(), std::next(f));

@@ -88,6 +88,7 @@ class D435iSource : public data::SequenceSource {
   void pump(int timeout_ms);
   void onVideo();
   void onMetadata();
+  void stopUsingMetadata();
   void onImu(IioSensor& sensor, bool accel);
   void frameWithMetadata(const cv::Mat& image, const cv::Mat& colour, const data::UvcFrameMetadata& meta);
   void queueFrame(int64_t t_ns, const cv::Mat& image, const cv::Mat& colour);
@@ -113,6 +114,8 @@ class D435iSource : public data::SequenceSource {
   bool warned_pts_ = false;
   std::map<uint32_t, WaitingFrame> frames_waiting_;             // by the driver's frame counter
   std::map<uint32_t, data::UvcFrameMetadata> metadata_waiting_;
+  static constexpr int kMetadataGiveUp = 30;  // frames in a row without metadata: use host stamps
+  int frames_unmatched_in_a_row_ = 0;
   bool have_sequence_ = false;
   uint32_t last_sequence_ = 0;
   TimeOrderedMerge merge_;

@@ -186,7 +186,7 @@ void FakeD435i::deliverFrame(int f) {
   const int64_t mid = t0 + 10000 + 33333LL * f;
   const int64_t readout_start = mid + config_.exposure_us / 2;
   const double arrival = hostNsOfDeviceUs(readout_start) + 300'000.0;  // first packet 0.3 ms after
-  if (config_.metadata_node || colour) {
+  if ((config_.metadata_node || colour) && !config_.metadata_silent) {
     D4xxMetadataFields m;
     m.host_ns = static_cast<uint64_t>(std::llround(arrival));
     m.pts_us = static_cast<uint32_t>(readout_start);  // the counter's 32 bits

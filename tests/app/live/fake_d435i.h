@@ -30,6 +30,7 @@ struct FakeD435iConfig {
   int accel_bits = 16;
   bool metadata_node = true;      // the infrared node has its metadata node
   bool d4xx_metadata = true;      // D4XX format with capture timing (false: plain UVCH header)
+  bool metadata_silent = false;   // the metadata node streams but never fills a buffer
   bool imu_device_stamps = true;  // IIO timestamps from the device (false: host CLOCK_REALTIME)
   uint32_t device_start_us = 0xFFFFFFFFu - 1'500'000;  // the counter wraps 1.5 s in
   double drift = 50e-6;           // the device clock runs this much fast

@@ -302,6 +302,23 @@ TEST(D435iSource, WithoutMetadataFramesKeepTheDriversHostStamps) {
   EXPECT_GE(frames, 25u);
 }
 
+TEST(D435iSource, ASilentMetadataNodeFallsBackToTheDriversStamps) {
+  test::TempDir dir("adugs_live");
+  test::FakeD435iConfig config;
+  config.metadata_silent = true;  // a kernel whose metadata node never delivers: frames must still come
+  test::FakeD435i fake(dir.path(), config);
+  D435iSource source(fake.options(), fake.v4l2());
+  EXPECT_TRUE(source.stats().device_clock);  // it had a metadata node
+  fake.start();
+  const Stream s = collect(source, 2.5);
+  fake.stop();
+  EXPECT_FALSE(source.stats().device_clock);  // ... and gave up on it after 30 frames
+  size_t frames = 0;
+  for (const data::Measurement& m : s.all) frames += m.isFrame();
+  EXPECT_GE(frames, 25u);
+  EXPECT_GE(source.stats().frames_without_metadata, 30u);
+}
+
 TEST(D435iSource, PlainUvcMetadataStampsFramesAtReadoutStart) {
   test::TempDir dir("adugs_live");
   test::FakeD435iConfig config;
