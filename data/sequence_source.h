@@ -63,7 +63,7 @@ class SequenceSource {
   virtual void stop() {}
   // Why next() returned false when that was not the end of a recording: after stop(), or when a
   // device went away or stalled, e.g. "/dev/video2: VIDIOC_DQBUF: No such device (camera
-  // unplugged?)"; "" otherwise.
+  // unplugged?)"; "" otherwise. The pipeline writes it as the run's end_detail.
   virtual std::string stopReason() const { return {}; }
 };
 
