@@ -529,10 +529,10 @@ data::OpenedSequence openD435i(const D435iOptions& options, const std::string& k
   out.imu_noise = kalibr_imu.empty() ? options.imu_noise : data::readKalibrImu(kalibr_imu).noise;
   out.calibration_from = "camera: " + camera_from + "; IMU: " +
                          (kalibr_imu.empty() ? std::string("the run config's d435i.imu0") : kalibr_imu);
-  if (kalibr_camchain.empty())
-    std::cerr << "warning: d435i: camera intrinsics from " << camera_from << "\n";
   if (options.backend == "librealsense") out.source = openVispRealSense2(options, camera.time_shift_ns);
   else out.source = std::make_unique<D435iSource>(options, io, camera.time_shift_ns);
+  if (kalibr_camchain.empty())  // once the camera is there
+    std::cerr << "warning: d435i: camera intrinsics from " << camera_from << "\n";
   return out;
 }
 

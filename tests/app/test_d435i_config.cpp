@@ -15,11 +15,6 @@ namespace {
 
 const std::string kConfig = std::string(ADUGS_SOURCE_DIR) + "/data/config/d435i.yaml";
 
-std::string readFile(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(D435iConfig, LoadsInAdugsRunOnA30HzSequenceWithA400HzImu) {
   TempDir dir("adugs_d435i_config");
   std::string log;

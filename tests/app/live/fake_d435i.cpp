@@ -207,6 +207,16 @@ void FakeD435i::deliverFrame(int f) {
     image[i] = 100;
     if (bpp == 2) image[i + 1] = colour ? 128 : 200;
   }
+  if (config_.still_textured_scene) {
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        uint32_t cell = static_cast<uint32_t>((y / 24) * 1000 + x / 24) * 2654435761u;  // a hash per cell
+        cell ^= cell >> 13;
+        uint32_t noise = static_cast<uint32_t>((f * 7919 + y) * 104729 + x) * 2246822519u;  // sensor noise
+        noise ^= noise >> 15;
+        image[(static_cast<size_t>(y) * s.width + x) * bpp] = static_cast<uint8_t>(30 + cell % 200 + noise % 5);
+      }
+  }
   image[0] = static_cast<uint8_t>(f & 0xff);
   image[bpp] = static_cast<uint8_t>((f >> 8) & 0xff);
   v4l2_.deliver(video, image, std::llround(arrival));
@@ -237,11 +247,16 @@ void FakeD435i::run() {
     sleepUntil(std::llround(at));
     if (!running_) break;
     if (at == gyro_at) {
-      if (!imu_gone_ && gyro_fd >= 0) writeRecord(gyro_fd, static_cast<int32_t>(k % 30000), 300, -450, imuStamp(t0 + 2500 * k), config_.gyro_bits);
+      const bool still = config_.still_textured_scene;
+      if (!imu_gone_ && gyro_fd >= 0)
+        writeRecord(gyro_fd, still ? 0 : static_cast<int32_t>(k % 30000), still ? 0 : 300, still ? 0 : -450,
+                    imuStamp(t0 + 2500 * k), config_.gyro_bits);
       ++k;
       ++gyro_;
     } else if (at == accel_at) {
-      if (!imu_gone_ && accel_fd >= 0) writeRecord(accel_fd, static_cast<int32_t>(j), 0, -1000, imuStamp(t0 + 4000 * j), config_.accel_bits);
+      if (!imu_gone_ && accel_fd >= 0)
+        writeRecord(accel_fd, config_.still_textured_scene ? 0 : static_cast<int32_t>(j), 0, -1000,
+                    imuStamp(t0 + 4000 * j), config_.accel_bits);
       ++j;
     } else {
       if (!camera_gone_) deliverFrame(static_cast<int>(f));

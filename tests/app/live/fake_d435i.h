@@ -37,6 +37,10 @@ struct FakeD435iConfig {
   int exposure_us = 8000;
   int readout_us = 10000;
   int imu_latency_us = 1000;      // record written this long after its sample
+  // The camera at rest in front of a textured wall (for the pipeline tests): gyro (0, 0, 0), accel
+  // (0, 0, -1000) (1 g), the left image a fixed pattern of random grey 24-pixel cells with 0-4
+  // grey levels of noise per frame (pixels (0,0) and (0,1) still hold the frame index).
+  bool still_textured_scene = false;
 };
 
 class FakeD435i {
