@@ -1,6 +1,6 @@
 // `adugs live`: the odometry pipeline of `adugs run` (app/pipeline/pipeline.h) on a live source
 // (app/live/live_sources.h): a sensor-paced replay of a recorded sequence, a video played as a
-// camera, or a V4L2 camera. Live sources cannot wait, so when the masking, front-end or estimator
+// camera, a V4L2 camera, or a RealSense D435i. Live sources cannot wait, so when the masking, front-end or estimator
 // fall behind, frames are dropped (the oldest waiting one; counted in summary.yaml and on the
 // status line), never IMU samples. Ctrl-C (SIGINT, SIGTERM) stops cleanly: the frames already
 // inside are finished and every output written. The view: a window when $DISPLAY is set (quit with
@@ -49,7 +49,8 @@ void runLive(const LiveArgs& a) {
 void registerLiveCommand(CLI::App& root) {
   auto args = std::make_shared<LiveArgs>();
   CLI::App* cmd = root.add_subcommand(
-      "live", "Run odometry (or, without IMU, masking and tracking) live: --replay SEQ | --video FILE | --v4l2 DEV");
+      "live",
+      "Run odometry (or, without IMU, masking and tracking) live: --replay SEQ | --video FILE | --v4l2 DEV | --d435i");
   addLiveSourceOptions(cmd, args->source);
   cmd->add_option("--out", args->out_dir, "output folder (trajectory.tum, summary.yaml)")->capture_default_str();
   cmd->add_option("--config", args->config_path, "run config YAML (tracker:, estimator:, dynamic:, pipeline: maps)")

@@ -7,6 +7,7 @@ namespace adugs::app {
 
 void registerBagCommand(CLI::App& root);
 void registerCalibCommand(CLI::App& root);
+void registerD435iCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
 void registerEvalMotCommand(CLI::App& root);
 void registerLiveCommand(CLI::App& root);

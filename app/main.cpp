@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   adugs::app::registerBagCommand(root);
   adugs::app::registerSimCommand(root);
   adugs::app::registerTrackCommand(root);
+  adugs::app::registerD435iCommand(root);
 
   try {
     root.parse(argc, argv);

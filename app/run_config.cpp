@@ -71,6 +71,11 @@ RunConfig loadRunConfig(const std::string& path) {
     o.reorder_window_ns = data::secToNs(window_s);
     p.finish();
   }
+  if (r.has("d435i")) {
+    data::YamlOptionsReader d = r.child("d435i");
+    readD435iOptions(d, &c.d435i);
+    d.finish();
+  }
   r.finish();
   return c;
 }

@@ -14,9 +14,13 @@
 //   playback:  bag topics and the reorder window (image_topic, imu_topic, accel_topic,
 //              gyro_topic, gt_topic, gt_parent_frame, gt_child_frame, reorder_window_s); the
 //              command line's options win over these, these over the --dataset preset
+//   d435i:     the RealSense D435i live source (app/live/d435i_options.h: streams, controls, IMU
+//              rates, the default cam0 / imu0 calibration in Kalibr spelling); read by
+//              `adugs live --d435i` and `adugs record --d435i`, ignored by `adugs run`
 // Every key is optional; unknown keys and out-of-range values are errors naming file, line, key.
 #include <string>
 
+#include "app/live/d435i_options.h"
 #include "data/dataset_preset.h"
 #include "tracking/dynamic_masker.h"
 #include "vio/estimator/estimator_options.h"
@@ -35,6 +39,7 @@ struct RunConfig {
   tracking::DynamicMaskerOptions dynamic;
   PipelineConfig pipeline;
   data::PlaybackOptions playback;  // only the topic / frame / window fields are read
+  D435iOptions d435i;
 };
 
 // Fills the playback fields the command line left empty (or at their default) from the config.

@@ -174,8 +174,8 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
     std::cerr << a.command << ": stopped (" << r.why << ") after " << s.frames
               << " frames; the frames already inside were finished and every output is written\n";
   else if (r.end == PipelineResult::End::kEndOfSource && r.live && !a.quiet)
-    std::cerr << a.command << ": the source ended (" << sequence.source->description() << ") after "
-              << r.frames_acquired << " frames\n";
+    std::cerr << a.command << ": the source ended (" << (r.why.empty() ? sequence.source->description() : r.why)
+              << ") after " << r.frames_acquired << " frames; every output is written\n";
   writeRunOutputs(a.out_dir, sequence.has_imu ? "vio" : "none", traj_path,
                   r.end == PipelineResult::End::kError ? "" : sequence.gt_path, stats);
   if (r.error) std::rethrow_exception(r.error);

@@ -23,6 +23,26 @@ Eigen::Isometry3d readMatrix(YamlOptionsReader& r, const std::string& key) {
 
 KalibrCamera parseCamera(YamlOptionsReader root, const std::string& name) {
   YamlOptionsReader r = root.child(name, true);
+  KalibrCamera out = readKalibrCameraMap(r);
+  // Other cameras of the chain (cam1...) are allowed and ignored; anything else is an error.
+  for (int i = 0; i < 16; ++i) {
+    const std::string other = "cam" + std::to_string(i);
+    if (other != name && root.has(other)) root.child(other);
+  }
+  root.finish();
+  return out;
+}
+
+KalibrImu parseImu(YamlOptionsReader root) {
+  YamlOptionsReader r = root.child("imu0", true);
+  KalibrImu out = readKalibrImuMap(r);
+  root.finish();
+  return out;
+}
+
+}  // namespace
+
+KalibrCamera readKalibrCameraMap(YamlOptionsReader& r) {
   KalibrCamera out;
   CameraCalibration& cam = out.camera;
   readPinholeIntrinsics(r, &cam);
@@ -56,17 +76,10 @@ KalibrCamera parseCamera(YamlOptionsReader root, const std::string& name) {
   if (r.has("T_cn_cnm1")) readMatrix(r, "T_cn_cnm1");
   r.optional("rate_hz", cam.rate_hz, 0.0, 1e4);
   r.finish();
-  // Other cameras of the chain (cam1...) are allowed and ignored; anything else is an error.
-  for (int i = 0; i < 16; ++i) {
-    const std::string other = "cam" + std::to_string(i);
-    if (other != name && root.has(other)) root.child(other);
-  }
-  root.finish();
   return out;
 }
 
-KalibrImu parseImu(YamlOptionsReader root) {
-  YamlOptionsReader r = root.child("imu0", true);
+KalibrImu readKalibrImuMap(YamlOptionsReader& r) {
   KalibrImu out;
   ImuNoise& n = out.noise;
   r.required("accelerometer_noise_density", n.accel_noise_density, 1e-12, 1e3);
@@ -81,11 +94,8 @@ KalibrImu parseImu(YamlOptionsReader root) {
   r.optional("time_offset", time_offset);
   if (r.has("T_i_b")) n.T_B_I = readMatrix(r, "T_i_b").inverse();
   r.finish();
-  root.finish();
   return out;
 }
-
-}  // namespace
 
 KalibrCamera parseKalibrCamchain(const std::string& text, const std::string& source, const std::string& camera) {
   return parseCamera(YamlOptionsReader::fromString(text, source), camera);

@@ -35,4 +35,10 @@ KalibrCamera parseKalibrCamchain(const std::string& text, const std::string& sou
 KalibrImu readKalibrImu(const std::string& path);
 KalibrImu parseKalibrImu(const std::string& text, const std::string& source);
 
+class YamlOptionsReader;
+// One camera's map (the keys under "cam0:") and the IMU's map (the keys under "imu0:"), for files
+// that embed them, such as data/config/d435i.yaml. Both call finish() on the reader.
+KalibrCamera readKalibrCameraMap(YamlOptionsReader& camera);
+KalibrImu readKalibrImuMap(YamlOptionsReader& imu);
+
 }  // namespace adugs::data

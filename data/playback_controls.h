@@ -33,6 +33,7 @@ class PlaybackControls : public SequenceSource {
   SourceCounts counts() const override { return inner_->counts(); }
   std::string description() const override { return inner_->description(); }
   bool isLive() const override { return inner_->isLive(); }
+  std::string stopReason() const override { return inner_->stopReason(); }
   void stop() override {
     stopped_ = true;
     inner_->stop();

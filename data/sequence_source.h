@@ -61,6 +61,10 @@ class SequenceSource {
   // Asks next() to return false soon, also when it is blocked in another thread; safe to call from
   // any thread, more than once. Sources whose next() never waits long need not override it.
   virtual void stop() {}
+  // Why next() returned false when that was not the end of a recording: after stop(), or when a
+  // device went away or stalled, e.g. "/dev/video2: VIDIOC_DQBUF: No such device (camera
+  // unplugged?)"; "" otherwise. The pipeline writes it as the run's end_detail.
+  virtual std::string stopReason() const { return {}; }
 };
 
 }  // namespace adugs::data

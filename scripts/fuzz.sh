@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, AddressSanitizer + UndefinedBehaviorSanitizer) in build-fuzz
 # and runs each one for a bounded time.
-#   scripts/fuzz.sh [fuzz_csv|fuzz_yaml|fuzz_onnx ...]
+#   scripts/fuzz.sh [fuzz_csv|fuzz_yaml|fuzz_onnx|fuzz_device ...]
 #   FUZZ_SECONDS  seconds per target (default 60)      FUZZ_JOBS  build jobs (default 2)
 #   FUZZ_BUILD_DIR (default <repo>/build-fuzz)
 # Fails (exit 1) if a target crashes, throws anything but InputError, trips a sanitizer, leaks or
@@ -15,7 +15,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${FUZZ_BUILD_DIR:-$repo/build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_csv fuzz_yaml fuzz_onnx)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_csv fuzz_yaml fuzz_onnx fuzz_device)
 
 mkdir -p "$build"
 # ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <random>
@@ -19,6 +20,8 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "data/csv_reader.h"
 
 namespace adugs::test {
 namespace fs = std::filesystem;
@@ -57,6 +60,41 @@ void writeText(const fs::path& file, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + file.string());
 }
 
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string summaryText(const fs::path& summary, const std::string& key) {
+  const std::string text = "\n" + readFile(summary);
+  const size_t at = text.find("\n" + key + ": ");
+  if (at == std::string::npos) return "";
+  const size_t from = at + key.size() + 3;
+  return text.substr(from, text.find('\n', from) - from);
+}
+
+double summaryNumber(const fs::path& summary, const std::string& key) {
+  const std::string v = summaryText(summary, key);
+  EXPECT_FALSE(v.empty()) << key << " missing in " << summary;
+  return v.empty() ? -1 : std::stod(v);
+}
+
+size_t csvRows(const fs::path& p) {
+  data::CsvReader r(p.string());
+  size_t n = 0;
+  while (r.next()) ++n;
+  return n;
+}
+
+std::string readFirstLine(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
 int runAdugs(const std::string& args, std::string* output) {
   return runCommand(std::string(ADUGS_BINARY) + " " + args, output);
 }
@@ -80,6 +118,29 @@ AdugsProcess::AdugsProcess(const std::string& args, const fs::path& log) {
     }
     execv(argv[0], argv.data());
     _exit(127);
+  }
+}
+
+AdugsProcess::AdugsProcess(const std::function<int()>& body, const fs::path& log) {
+  std::fflush(nullptr);
+  pid_ = fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      close(fd);
+    }
+    int code = 2;
+    try {
+      code = body();
+    } catch (const std::exception& e) {
+      std::cerr << "adugs: error: " << e.what() << "\n";
+    }
+    std::cout << std::flush;
+    std::cerr << std::flush;
+    _exit(code);
   }
 }
 

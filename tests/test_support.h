@@ -2,6 +2,7 @@
 // Helpers shared by the test suites: where the shared real data lives, temp folders, running adugs.
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <sys/types.h>
@@ -35,6 +36,16 @@ class TempDir {
 
 // Writes text to a file (creating parent directories).
 void writeText(const std::filesystem::path& file, const std::string& text);
+// The first line of a file, without its newline ("" when it cannot be read), e.g. a sysfs attribute.
+std::string readFirstLine(const std::filesystem::path& file);
+// The whole file ("" when it cannot be read).
+std::string readFile(const std::filesystem::path& file);
+// The text after "KEY: " on its line of a summary.yaml / record.yaml ("" when absent), and as a
+// number (a test failure when absent).
+std::string summaryText(const std::filesystem::path& summary, const std::string& key);
+double summaryNumber(const std::filesystem::path& summary, const std::string& key);
+// Rows of a CSV file after its header.
+size_t csvRows(const std::filesystem::path& file);
 
 // Runs a shell command; returns its exit code; stdout+stderr go to *output.
 int runCommand(const std::string& command, std::string* output);
@@ -50,6 +61,10 @@ int runAdugs(const std::string& args, std::string* output);
 class AdugsProcess {
  public:
   AdugsProcess(const std::string& args, const std::filesystem::path& log);
+  // Or the product's code in a forked child of this test (for a command on a fake kernel layer):
+  // `body` runs there, its return value is the exit code (an exception: its message, exit 2).
+  // Fork only from a test that has started no thread yet.
+  AdugsProcess(const std::function<int()>& body, const std::filesystem::path& log);
   ~AdugsProcess();
   AdugsProcess(const AdugsProcess&) = delete;
   AdugsProcess& operator=(const AdugsProcess&) = delete;

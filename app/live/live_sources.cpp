@@ -2,12 +2,25 @@
 
 #include <memory>
 
+#include "app/live/d435i_source.h"
 #include "app/live/video_file_source.h"
+#include "app/run_config.h"
 #include "data/input_error.h"
 #include "data/kalibr_calibration.h"
 #include "data/playback_controls.h"
 
 namespace adugs::app {
+namespace {
+
+// --start / --duration on a camera: measured from its first measurement.
+data::OpenedSequence withStartAndDuration(data::OpenedSequence s, const SequenceArgs& args) {
+  const int64_t start = data::secToNs(args.start_s), duration = data::secToNs(args.duration_s);
+  if (start > 0 || duration > 0)
+    s.source = std::make_unique<data::PlaybackControls>(std::move(s.source), start, duration, false);
+  return s;
+}
+
+}  // namespace
 
 void addLiveSourceOptions(CLI::App* cmd, LiveSourceArgs& a) {
   cmd->add_option("--replay", a.replay,
@@ -17,6 +30,9 @@ void addLiveSourceOptions(CLI::App* cmd, LiveSourceArgs& a) {
                   "a video file (or a folder of images) played as a live camera (vision only: masking and tracking)")
       ->check(CLI::ExistingPath);
   cmd->add_option("--v4l2", a.v4l2, "a V4L2 camera, e.g. /dev/video0 (vision only: masking and tracking)");
+  cmd->add_flag("--d435i", a.d435i,
+                "a RealSense D435i without librealsense (infrared + IMU on the camera's clock; options: the --config's "
+                "d435i: map, e.g. data/config/d435i.yaml; see doc/d435i.md)");
   addSequenceOptions(cmd, a.sequence);
   ReplayTiming& t = a.replay_timing;
   cmd->add_option("--replay-speed", t.speed, "--replay: sensor seconds per wall second")
@@ -67,12 +83,13 @@ data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz, 
   return c;
 }
 
-data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& config_path, const std::string& out_dir) {
-  const int given = !a.replay.empty() + !a.video.empty() + !a.v4l2.empty();
+data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& config_path, const std::string& out_dir,
+                                    V4l2Io& device_io) {
+  const int given = !a.replay.empty() + !a.video.empty() + !a.v4l2.empty() + a.d435i;
   if (given != 1)
     throw data::InputError("command line", 0, "source",
-                           given == 0 ? "give a source: --replay SEQ, --video FILE or --v4l2 /dev/videoN"
-                                      : "give one source only (--replay, --video or --v4l2)");
+                           given == 0 ? "give a source: --replay SEQ, --video FILE, --v4l2 /dev/videoN or --d435i"
+                                      : "give one source only (--replay, --video, --v4l2 or --d435i)");
   const data::PlaybackOptions& p = a.sequence.playback;
   if (!a.replay.empty()) {
     data::PlaybackOptions playback = playbackOptions(a.sequence, config_path);
@@ -81,9 +98,13 @@ data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& 
     s.source = std::make_unique<ReplaySource>(std::move(s.source), a.replay_timing);
     return s;
   }
+  data::OpenedSequence s;
+  if (a.d435i) {
+    s = openD435i(loadRunConfig(config_path).d435i, p.kalibr_camchain, p.kalibr_imu, device_io);
+    return withStartAndDuration(std::move(s), a.sequence);
+  }
   if (!p.kalibr_imu.empty())
     throw data::InputError(p.kalibr_imu, 0, "--kalibr-imu", "--video and --v4l2 have no IMU (vision only)");
-  data::OpenedSequence s;
   s.has_imu = false;
   if (!a.video.empty()) {
     auto video = std::make_unique<VideoFileSource>(a.video, a.video_speed);
@@ -99,10 +120,7 @@ data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& 
                                 &s.calibration_from);
     s.source = std::move(camera);
   }
-  const int64_t start = data::secToNs(a.sequence.start_s), duration = data::secToNs(a.sequence.duration_s);
-  if (start > 0 || duration > 0)
-    s.source = std::make_unique<data::PlaybackControls>(std::move(s.source), start, duration, false);
-  return s;
+  return withStartAndDuration(std::move(s), a.sequence);
 }
 
 }  // namespace adugs::app

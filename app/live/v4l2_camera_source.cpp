@@ -77,7 +77,7 @@ std::string V4l2CameraSource::description() const {
   char text[160];
   std::snprintf(text, sizeof text, "V4L2 camera %s (%dx%d %s at %.3g Hz, OpenCV V4L2 backend)", device_.c_str(), width_,
                 height_, fourcc_.c_str(), fps_);
-  return ended_.empty() ? text : std::string(text) + ": " + ended_;
+  return text;
 }
 
 }  // namespace adugs::app

@@ -8,7 +8,7 @@
 // frame's stamp.
 //
 // next() blocks until the next frame (the driver's buffers are drained at the camera's rate). A
-// camera that stops delivering (unplugged) ends the source: next() returns false, description()
+// camera that stops delivering (unplugged) ends the source: next() returns false, stopReason()
 // says why. stop() takes effect at the next frame (the driver wait is not interruptible).
 #include <atomic>
 #include <string>
@@ -33,6 +33,7 @@ class V4l2CameraSource : public data::SequenceSource {
   bool next(data::Measurement& m) override;
   data::SourceCounts counts() const override { return {}; }
   std::string description() const override;
+  std::string stopReason() const override { return ended_; }
   bool isLive() const override { return true; }
   void stop() override { stopped_ = true; }
 
@@ -52,7 +53,7 @@ class V4l2CameraSource : public data::SequenceSource {
   bool has_first_ = false;
   int64_t last_t_ = -1;
   size_t delivered_ = 0;
-  std::string ended_;  // why the camera stopped
+  std::string ended_;  // why the camera stopped (written by next()'s thread, read after it ended)
   std::atomic<bool> stopped_{false};
 };
 

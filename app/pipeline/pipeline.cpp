@@ -183,6 +183,8 @@ PipelineResult Pipeline::run() {
   PipelineResult r;
   r.end = end_;
   r.why = why_;
+  // A live source that ended by itself (unplugged, stalled) says why.
+  if (r.end == PipelineResult::End::kEndOfSource) r.why = source_.stopReason();
   r.error = error_;
   r.live = live_;
   r.threads = static_cast<int>(threads.size());

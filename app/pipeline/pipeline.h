@@ -65,7 +65,9 @@ struct PipelineOptions {
 struct PipelineResult {
   enum class End { kEndOfSource, kStopped, kError };
   End end = End::kEndOfSource;
-  std::string why;  // kStopped: "SIGINT", "SIGTERM", "window closed", ...; kError: the message
+  // kStopped: "SIGINT", "SIGTERM", "quit in the window", ...; kError: the message; kEndOfSource:
+  // the source's stopReason() (a camera unplugged or stalled), "" at the end of a recording.
+  std::string why;
   std::exception_ptr error;
   bool live = false;
   int threads = 0;

@@ -21,34 +21,6 @@ namespace fs = std::filesystem;
 
 const std::string kSourceDir = ADUGS_SOURCE_DIR;
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// The text after "KEY: " on its line of a summary ("" when absent).
-std::string summaryText(const fs::path& summary, const std::string& key) {
-  const std::string text = "\n" + readFile(summary);
-  const size_t at = text.find("\n" + key + ": ");
-  if (at == std::string::npos) return "";
-  const size_t from = at + key.size() + 3;
-  return text.substr(from, text.find('\n', from) - from);
-}
-double summaryNumber(const fs::path& summary, const std::string& key) {
-  const std::string v = summaryText(summary, key);
-  EXPECT_FALSE(v.empty()) << key << " missing in " << summary;
-  return v.empty() ? -1 : std::stod(v);
-}
-
-size_t csvRows(const fs::path& p) {
-  data::CsvReader r(p.string());
-  size_t n = 0;
-  while (r.next()) ++n;
-  return n;
-}
-
 // Lines of a file (a trajectory being written).
 size_t lines(const fs::path& p) {
   std::ifstream in(p);

@@ -16,11 +16,6 @@ namespace {
 
 const std::string kSourceDir = ADUGS_SOURCE_DIR;
 
-std::string readFile(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // The real EuRoC micro sequence stands still: static initialisation, and the bar of
 // less than 5 cm drift from the first pose over the 4.7 s.
 TEST(CmdRunVio, RealEurocMicroInitialisesStaticallyAndStaysPut) {
