@@ -5,9 +5,11 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "calib/solver_outcome.h"
 #include "data/input_error.h"
 
 int main(int argc, char** argv) {
+  adugs::calib::silenceSolverLogging();
   CLI::App root{"ADUGS-VINS: visual-inertial odometry robust to dynamic objects"};
   root.require_subcommand(1);
   root.set_version_flag("--version", "adugs 0.1");

@@ -7,10 +7,12 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "calib/camera_imu_costs.h"
 #include "calib/camera_imu_init.h"
+#include "calib/solver_outcome.h"
 #include "calib/text_format.h"
 #include "data/input_error.h"
 
@@ -101,7 +103,7 @@ enum class Stage { kSpline, kFull };
 
 void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& imu,
            const std::vector<size_t>& imu_used, Stage stage, const PinholeCamera& camera,
-           const ImuNoiseFigures& noise, const CameraImuOptions& o, int& iterations) {
+           const ImuNoiseFigures& noise, const CameraImuOptions& o, CameraImuResult& res) {
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
@@ -170,7 +172,7 @@ void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& i
   }
   problem.SetManifold(s.gravity_dir.data(), &sphere);
 
-  ceres::Solver::Options so;
+  ceres::Solver::Options so = quietSolverOptions();
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.max_num_iterations = o.max_iterations;
   so.num_threads = o.threads;
@@ -178,7 +180,12 @@ void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& i
   so.function_tolerance = 1e-9;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  iterations += static_cast<int>(summary.iterations.size());
+  res.iterations += static_cast<int>(summary.iterations.size());
+  const SolverOutcome outcome = describeSolve(summary);
+  if (!outcome.usable) {
+    res.solver_failures.push_back((stage == Stage::kSpline ? "trajectory solve: " : "full solve: ") +
+                                  outcome.problem);
+  }
   if (o.verbose) std::cerr << summary.BriefReport() << "\n";
 }
 
@@ -201,21 +208,25 @@ void initGravity(State& s, const std::vector<RateSample>& gyro, const ImuRecordi
   s.gravity_dir = {g.x(), g.y(), g.z()};
 }
 
-// Per-corner errors of all frames at the current state (pixels, unweighted).
+// Per-corner errors of all frames at the current state (pixels, unweighted); NaN for a corner
+// behind the camera (it has no reprojection error).
 std::vector<std::vector<double>> cornerErrors(const State& s, const std::vector<FrameData>& frames,
                                               const PinholeCamera& camera) {
   std::vector<std::vector<double>> errors;
+  std::vector<bool> behind;
   for (const FrameData& f : frames) {
     const Segment sg = segmentOf(s, f.t_cam + s.shift);
     FrameReprojection fr{f.t_cam - (s.t0 + sg.index * s.dt), 1.0 / s.dt, &camera, f.corners, 1.0};
     for (auto& c : fr.corners) c.weight = 1;
     std::vector<double> r(2 * fr.corners.size());
     const int i = sg.index;
-    fr(s.q[i].data(), s.q[i + 1].data(), s.q[i + 2].data(), s.q[i + 3].data(), s.p[i].data(),
-       s.p[i + 1].data(), s.p[i + 2].data(), s.p[i + 3].data(), s.q_C_I.data(), s.p_C_I.data(),
-       &s.shift, r.data());
+    fr.project(s.q[i].data(), s.q[i + 1].data(), s.q[i + 2].data(), s.q[i + 3].data(),
+               s.p[i].data(), s.p[i + 1].data(), s.p[i + 2].data(), s.p[i + 3].data(),
+               s.q_C_I.data(), s.p_C_I.data(), &s.shift, r.data(), &behind);
     std::vector<double> e(fr.corners.size());
-    for (size_t k = 0; k < e.size(); ++k) e[k] = std::hypot(r[2 * k], r[2 * k + 1]);
+    for (size_t k = 0; k < e.size(); ++k)
+      e[k] = behind[k] ? std::numeric_limits<double>::quiet_NaN()
+                       : std::hypot(r[2 * k], r[2 * k + 1]);
     errors.push_back(std::move(e));
   }
   return errors;
@@ -360,6 +371,7 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
     frames.push_back(std::move(f));
   }
   res.frames_used = static_cast<int>(frames.size());
+  for (const FrameData& f : frames) res.corners_in_frames += static_cast<int>(f.corners.size());
 
   // IMU samples on the spline.
   std::vector<size_t> imu_used;
@@ -368,7 +380,7 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
   res.imu_samples_used = static_cast<int>(imu_used.size());
 
   initGravity(s, gyro, imu, imu_used);
-  solve(s, frames, imu, imu_used, Stage::kSpline, camera, noise, o, res.iterations);
+  solve(s, frames, imu, imu_used, Stage::kSpline, camera, noise, o, res);
 
   // Robust rounds: solve, then Huber IRLS weights w = min(1, sqrt(k / e)) on each corner.
   for (int round = 0; round < std::max(1, o.robust_rounds); ++round) {
@@ -376,11 +388,12 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
       const auto errors = cornerErrors(s, frames, camera);
       for (size_t f = 0; f < frames.size(); ++f)
         for (size_t k = 0; k < frames[f].corners.size(); ++k) {
-          const double e = errors[f][k];
+          const double e = errors[f][k];  // NaN (behind the camera) cannot happen here: the
+                                          // solver rejects steps that put a corner there
           frames[f].corners[k].weight = e > o.huber_px ? std::sqrt(o.huber_px / e) : 1.0;
         }
     }
-    solve(s, frames, imu, imu_used, Stage::kFull, camera, noise, o, res.iterations);
+    solve(s, frames, imu, imu_used, Stage::kFull, camera, noise, o, res);
   }
 
   // Results and residuals.
@@ -395,15 +408,23 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
     res.accel_bias += a / static_cast<double>(s.accel_bias.size());
     res.bias_knots.push_back({s.t0 + k * s.bias_dt, g, a});
   }
+  // Reprojection statistics over the corners that project (a corner behind the camera has no
+  // error to average; it is counted instead).
   double sq = 0;
   for (const auto& frame_errors : cornerErrors(s, frames, camera))
     for (double e : frame_errors) {
+      if (!std::isfinite(e)) {
+        ++res.corners_behind_camera;
+        continue;
+      }
       res.corner_errors_px.push_back(e);
       sq += e * e;
       res.corners_downweighted += e > o.huber_px;
     }
   res.corners_used = static_cast<int>(res.corner_errors_px.size());
-  res.reprojection_rms_px = std::sqrt(sq / std::max(1, res.corners_used));
+  res.reprojection_rms_px = res.corners_used > 0
+                                ? std::sqrt(sq / res.corners_used)
+                                : std::numeric_limits<double>::quiet_NaN();
   for (size_t k : imu_used) {
     const Segment sg = segmentOf(s, gyro[k].t);
     const BiasLocation bl = biasAt(s, gyro[k].t);

@@ -74,7 +74,11 @@ struct CameraImuResult {
   double reprojection_rms_px = 0, gyro_rms = 0, accel_rms = 0;
   int corners_downweighted = 0;
 
+  // corners_used: corners of the used frames that project into the camera at the solution (the
+  // reprojection statistics are over these); corners_behind_camera: the others.
   int views_given = 0, frames_used = 0, corners_used = 0, imu_samples_used = 0;
+  int corners_behind_camera = 0, corners_in_frames = 0;
+  std::vector<std::string> solver_failures;  // solves that failed, in the tool's words
   int control_points = 0, iterations = 0;
   double pnp_rms_px = 0;
   Eigen::Vector3d excitation = Eigen::Vector3d::Zero();  // RMS rate per principal axis [rad/s]

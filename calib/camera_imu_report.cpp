@@ -72,7 +72,7 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
   s += strprintf(
       "  frames: %d used of %d views (>= %d corners, every %d), %d corners, "
       "PnP RMS %.3f px\n",
-      r.frames_used, r.views_given, o.min_corners, o.frame_step, r.corners_used, r.pnp_rms_px);
+      r.frames_used, r.views_given, o.min_corners, o.frame_step, r.corners_in_frames, r.pnp_rms_px);
   s += strprintf(
       "  IMU samples: %d; rotation excitation (RMS rate per principal axis): "
       "%.3f %.3f %.3f rad/s\n",
@@ -105,11 +105,14 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
 
   s += "Residuals\n";
   s += strprintf(
-      "  reprojection: RMS %.3f px, median %.3f, 90%% %.3f, 99%% %.3f, max %.3f px; "
-      "%d corners above the Huber threshold %.2f px\n",
-      r.reprojection_rms_px, percentile(r.corner_errors_px, 0.5),
+      "  reprojection over the %d corners that project: RMS %.3f px, median %.3f, 90%% %.3f, "
+      "99%% %.3f, max %.3f px; %d corners above the Huber threshold %.2f px\n",
+      r.corners_used, r.reprojection_rms_px, percentile(r.corner_errors_px, 0.5),
       percentile(r.corner_errors_px, 0.9), percentile(r.corner_errors_px, 0.99),
       percentile(r.corner_errors_px, 1.0), r.corners_downweighted, o.huber_px);
+  if (r.corners_behind_camera > 0)
+    s += strprintf("  %d corners lie BEHIND the camera at this solution (no reprojection error)\n",
+                   r.corners_behind_camera);
   const Eigen::Vector3d g = axisRms(r.gyro_residuals), ac = axisRms(r.accel_residuals);
   s +=
       strprintf("  gyro:  RMS %.5f rad/s (x %.5f, y %.5f, z %.5f)\n", r.gyro_rms, g(0), g(1), g(2));
