@@ -15,6 +15,7 @@
 #include "calib/aprilgrid_render.h"
 #include "calib/aprilgrid_target_yaml.h"
 #include "calib/calibration_report.h"
+#include "calib/calibration_verdict.h"
 #include "calib/camera_imu_calibrator.h"
 #include "calib/camera_imu_input.h"
 #include "calib/camera_imu_report.h"
@@ -22,6 +23,7 @@
 #include "calib/corner_csv.h"
 #include "calib/image_source.h"
 #include "calib/intrinsics_calibrator.h"
+#include "calib/intrinsics_verdict.h"
 #include "calib/kalibr_yaml.h"
 #include "calib/text_format.h"
 #include "calib/visp_camera_xml.h"
@@ -50,6 +52,16 @@ void makeDir(const std::string& dir) {
 
 void writePng(const std::string& path, const cv::Mat& image) {
   if (!cv::imwrite(path, image)) throw data::InputError(path, 0, "", "cannot write PNG");
+}
+
+// A failed verdict: nothing is written; main() prints the reason and exits with code 3. A file
+// of an earlier run at would_write is pointed out, so nobody takes it for this run's result.
+[[noreturn]] void failCalibration(const calib::CalibrationVerdict& verdict,
+                                  const std::string& would_write) {
+  std::string reason = verdict.findings.empty() ? "no reason given" : verdict.findings.front().what;
+  std::string message = reason + " (nothing was written";
+  if (fs::exists(would_write)) message += "; " + would_write + " is from an earlier run";
+  throw calib::CalibrationFailed(message + ")");
 }
 
 // ---------------------------------------------------------------- target
@@ -115,6 +127,7 @@ struct DetectArgs {
 
 struct LoadedOptions {
   calib::IntrinsicsOptions intrinsics;
+  calib::IntrinsicsVerdictOptions verdict;
   calib::DetectorOptions detector;
 };
 
@@ -122,7 +135,12 @@ LoadedOptions loadOptions(const std::string& path, bool with_intrinsics) {
   LoadedOptions o;
   if (path.empty()) return o;
   auto r = data::YamlOptionsReader::fromFile(path);
-  if (with_intrinsics) calib::readIntrinsicsOptions(r, o.intrinsics);
+  if (with_intrinsics) {
+    calib::readIntrinsicsOptions(r, o.intrinsics);
+    auto v = r.child("verdict");
+    calib::readIntrinsicsVerdictOptions(v, o.verdict);
+    v.finish();
+  }
   auto d = r.child("detector");
   d.optional("quad_decimate", o.detector.quad_decimate, 1.0f, 8.0f);
   d.optional("threads", o.detector.threads, 1, 256);
@@ -296,21 +314,32 @@ void runIntrinsics(const IntrinsicsArgs& a) {
         d.views, r.camera, o.intrinsics.min_corners_per_view);
   }
 
-  makeDir(a.out);
+  const calib::IntrinsicsJudgement judgement = calib::judgeIntrinsics(r, o.intrinsics, o.verdict);
+  const std::string report = calib::formatIntrinsicsReport(r, judgement, ctx);
+  // The head of the report (summary, verdict, intrinsics, coverage, comparison) on stdout.
+  const std::string head = report.substr(0, report.find("Per view"));
   const fs::path out(a.out);
-  data::writeTextFileAtomically((out / "camchain.yaml").string(), calib::formatCamchainYaml(r.camera));
-  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera);
-  const std::string report = calib::formatIntrinsicsReport(r, ctx);
+  if (judgement.verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << head;
+    failCalibration(judgement.verdict, (out / "camchain.yaml").string());
+  }
+
+  makeDir(a.out);
+  const std::string comment = calib::verdictYamlComment(judgement.verdict);
+  data::writeTextFileAtomically((out / "camchain.yaml").string(),
+                                comment + calib::formatCamchainYaml(r.camera));
+  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera, "Camera", comment);
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   writePng((out / "residuals.png").string(), calib::renderResidualPlot(r));
+  writePng((out / "coverage.png").string(), calib::renderCoveragePlot(r, judgement));
   data::writeTextFileAtomically((out / "residuals.csv").string(), calib::formatResidualCsv(r));
   if (a.save_corners && !a.images.empty() && !is_chessboard) saveCorners((out / "corners").string(), grid, d);
 
-  // The head of the report (summary, intrinsics, comparison) on stdout.
-  const size_t cut = report.find("Per view");
-  std::cout << report.substr(0, cut);
+  std::cout << head;
   std::cout << "Wrote " << (out / "camchain.yaml").string()
-            << ", camera.xml, report.txt, residuals.png, residuals.csv\n";
+            << ", camera.xml, report.txt, residuals.png, coverage.png, residuals.csv\n";
+  if (judgement.verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on this calibration\n";
 }
 
 // ------------------------------------------------------------------- imu

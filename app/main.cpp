@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "calib/calibration_verdict.h"
 #include "calib/solver_outcome.h"
 #include "data/input_error.h"
 
@@ -28,6 +29,9 @@ int main(int argc, char** argv) {
   } catch (const adugs::data::InputError& e) {
     std::cerr << "adugs: error: " << e.what() << "\n";
     return 2;
+  } catch (const adugs::calib::CalibrationFailed& e) {
+    std::cerr << "adugs: calibration failed: " << e.what() << "\n";
+    return adugs::calib::kExitCalibrationFailed;
   } catch (const std::exception& e) {
     std::cerr << "adugs: error: " << e.what() << "\n";
     return 1;

@@ -1,0 +1,146 @@
+// Measures what the intrinsics verdict checks see on sets of known quality, to choose (and
+// re-check) the verdict's default bounds: synthetic views with known intrinsics (well spread,
+// few views, near-still), and the real EuRoC cam0 detections against the published intrinsics
+// (cam_april; imu_april as random subsets, as consecutive 1.5 s windows like cam_april, and
+// subsampled). One TSV row per calibration on stdout. Not a Google Benchmark: a measurement
+// program (doc/calibration.md, "Verdicts", says how its output chose the bounds).
+//
+//   build/tests/bench/bench_calib_verdicts [--quick] > verdicts.tsv
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "calib/corner_csv.h"
+#include "calib/intrinsics_calibrator.h"
+#include "calib/intrinsics_verdict.h"
+#include "data/input_error.h"
+#include "tests/calib/camera_imu_synthetic.h"
+#include "tests/calib/synthetic_views.h"
+#include "tests/test_support.h"
+
+namespace {
+using namespace adugs::calib;
+
+void header() {
+  std::printf(
+      "set\tviews\tverdict\tfu_err_pct\tfv_err_pct\tpu_err_pct\tpv_err_pct\tmax_f_err_pct\t"
+      "max_pp_err_pct\trms_px\timage_share\ttilt_spread_deg\tmax_tilt_deg\tfu_rel_sigma_pct\t"
+      "pu_rel_sigma_pct\tmax_dist_sigma_px\tmax_f_shift_pct\tmax_pp_shift_pct\toutliers\t"
+      "start_px\tfindings\n");
+}
+
+void run(const std::string& name, const std::vector<TargetObservation>& views,
+         const PinholeCamera& truth) {
+  IntrinsicsOptions o;
+  o.model = truth.model;
+  IntrinsicsResult r;
+  try {
+    r = calibrateIntrinsics(views, truth.width, truth.height, o);
+  } catch (const std::exception& e) {
+    std::printf("%s\t%zu\terror\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t%s\n", name.c_str(), views.size(), e.what());
+    return;
+  }
+  const IntrinsicsJudgement j = judgeIntrinsics(r, o);
+  const PinholeCamera& c = r.camera;
+  double err[4];
+  for (int i = 0; i < 4; ++i) err[i] = 100 * (c.params[i] - truth.params[i]) / truth.params[i];
+  const double max_dist_sigma = j.distortion_sigma_px;
+  const double f_shift = 100 * std::max(std::abs(j.rejection_shift[0] / c.params[0]),
+                                        std::abs(j.rejection_shift[1] / c.params[1]));
+  const double pp_shift = 100 * std::max(std::abs(j.rejection_shift[2]), std::abs(j.rejection_shift[3])) / c.width;
+  std::string findings;
+  for (const auto& f : j.verdict.findings) findings += (findings.empty() ? "" : ",") + f.check;
+  std::printf("%s\t%zu\t%s\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\t%.2f\t%.2f\t%.4f\t%.4f\t%.3f\t%.3f\t%.3f\t%d\t%.1f\t%s\n",
+              name.c_str(), r.views.size(), verdictName(j.verdict.verdict), err[0], err[1], err[2],
+              err[3], std::max(std::abs(err[0]), std::abs(err[1])),
+              std::max(std::abs(err[2]), std::abs(err[3])), r.rms_px, j.coverage.image_share,
+              j.coverage.tilt_spread_deg, j.coverage.max_tilt_deg,
+              r.has_sigma ? 100 * r.sigma[0] / c.params[0] : -1,
+              r.has_sigma ? 100 * std::max(r.sigma[2], r.sigma[3]) / c.width : -1, max_dist_sigma,
+              f_shift, pp_shift, r.outliers, r.initial_focal_px, findings.c_str());
+  std::fflush(stdout);
+}
+
+std::vector<TargetObservation> pick(const std::vector<TargetObservation>& all,
+                                    const std::vector<size_t>& idx) {
+  std::vector<TargetObservation> out;
+  for (size_t i : idx) out.push_back(all[i]);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const int seeds = quick ? 2 : 5;
+  header();
+  const AprilGrid grid = synth::eurocGrid();
+  const PinholeCamera euroc = synth::eurocLikeCamera();
+  PinholeCamera cam1 = euroc;  // EuRoC's cam1 (the camera of issue 18's weak case)
+  cam1.params = {457.587, 456.134, 379.999, 255.238, -0.28368365, 0.07451284, -0.00010473, -3.555e-05};
+
+  // Synthetic: well-spread views of several sizes and noise levels.
+  for (int n : {5, 10, 25})
+    for (double noise : {0.2, 0.5})
+      for (int s = 1; s <= seeds; ++s)
+        run("synthetic_spread_n" + std::to_string(n) + "_noise" + std::to_string(noise).substr(0, 3) +
+                "_s" + std::to_string(s),
+            synth::syntheticViews(euroc, grid, n, noise, static_cast<unsigned>(s)), euroc);
+  for (int s = 1; s <= seeds; ++s)
+    run("synthetic_fisheye_n25_s" + std::to_string(s),
+        synth::syntheticViews(synth::fisheyeCamera(), grid, 25, 0.2, static_cast<unsigned>(10 + s), 0.35, 0.7),
+        synth::fisheyeCamera());
+  // Synthetic near-still: one pose held (face-on centred; face-on at the side; tilted 10 deg).
+  struct Still { const char* name; double dist, tilt, jm, jd, ox, oy, noise; };
+  for (const Still& p : {Still{"single_pose_tilt20", 1.0, 20, 0, 0, 0, 0, 0.3},
+                         Still{"still_faceon", 1.1, 0, 0.002, 0.1, 0, 0, 0.2},
+                         Still{"still_side", 1.15, 1, 0.002, 0.1, -0.3, -0.15, 0.3},
+                         Still{"still_tilt10", 1.15, 10, 0.02, 1.0, -0.1, 0.0, 0.3},
+                         Still{"still_tilt25", 1.0, 25, 0.02, 1.0, 0.0, 0.0, 0.3}})
+    for (int s = 1; s <= seeds; ++s)
+      run(std::string("synthetic_") + p.name + "_s" + std::to_string(s),
+          synth::nearStillViews(cam1, grid, 30, p.noise, static_cast<unsigned>(s), p.dist, p.tilt,
+                                p.jm, p.jd, p.ox, p.oy),
+          cam1);
+
+  // Real EuRoC cam0 detections against the published cam0 intrinsics.
+  const auto shared = adugs::test::sharedDataDir() / "euroc_calib_aprilgrid";
+  if (!std::filesystem::exists(shared)) {
+    std::fprintf(stderr, "shared data not found at %s: real sets skipped\n", shared.c_str());
+    return 0;
+  }
+  const auto cam_april = readCornerCsvs((shared / "cam_april" / "cam0").string(), nullptr);
+  run("euroc_cam_april_all30", cam_april, euroc);
+  const auto imu_april = readCornerCsvs((shared / "imu_april" / "cam0").string(), nullptr);
+  std::vector<size_t> with;  // frames with enough corners
+  for (size_t i = 0; i < imu_april.size(); ++i)
+    if (imu_april[i].corners.size() >= 12) with.push_back(i);
+  for (int every : {10, 20}) {
+    std::vector<size_t> idx;
+    for (size_t i = 0; i < imu_april.size(); i += every) idx.push_back(i);
+    run("euroc_imu_april_every" + std::to_string(every), pick(imu_april, idx), euroc);
+  }
+  std::mt19937 rng(1);
+  for (int n : {10, 20, 30, 60})
+    for (int s = 1; s <= seeds; ++s) {
+      std::vector<size_t> idx = with;
+      std::shuffle(idx.begin(), idx.end(), rng);
+      idx.resize(static_cast<size_t>(n));
+      std::sort(idx.begin(), idx.end());
+      run("euroc_imu_april_random" + std::to_string(n) + "_s" + std::to_string(s), pick(imu_april, idx), euroc);
+    }
+  // Consecutive 30-frame windows (1.5 s, like cam_april) through the sequence.
+  const int windows = quick ? 4 : 12;
+  for (int k = 0; k < windows; ++k) {
+    const size_t start = (imu_april.size() - 30) * static_cast<size_t>(k) / static_cast<size_t>(windows - 1);
+    std::vector<size_t> idx;
+    for (size_t i = start; i < start + 30; ++i) idx.push_back(i);
+    run("euroc_imu_april_window30_at" + std::to_string(start), pick(imu_april, idx), euroc);
+  }
+  return 0;
+}
