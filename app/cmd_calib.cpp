@@ -19,6 +19,7 @@
 #include "calib/camera_imu_calibrator.h"
 #include "calib/camera_imu_input.h"
 #include "calib/camera_imu_report.h"
+#include "calib/camera_imu_verdict.h"
 #include "calib/chessboard.h"
 #include "calib/corner_csv.h"
 #include "calib/image_source.h"
@@ -385,6 +386,10 @@ struct CameraImuArgs {
   int every = 1;
   int threads = 2;
   bool verbose = false;
+  std::string options;
+  double max_translation = 0, max_accel_bias = 0, max_gyro_bias = 0;
+  const CLI::App* cli = nullptr;  // which flags were given (they override --options)
+  bool given(const char* flag) const { return cli && cli->count(flag) > 0; }
 };
 
 void runCameraImu(const CameraImuArgs& a) {
@@ -438,15 +443,33 @@ void runCameraImu(const CameraImuArgs& a) {
   const double read_seconds = secondsSince(t0);
 
   calib::CameraImuOptions o;
-  o.estimate_time_offset = a.time_offset == "on";
-  o.knot_rate_hz = a.knot_rate;
-  o.frame_step = a.every;
+  calib::CameraImuVerdictOptions vo;
+  if (!a.options.empty()) {
+    auto r = data::YamlOptionsReader::fromFile(a.options);
+    calib::readCameraImuOptions(r, o);
+    auto v = r.child("verdict");
+    calib::readCameraImuVerdictOptions(v, vo);
+    v.finish();
+    r.finish();
+  }
+  if (a.given("--estimate-time-offset")) o.estimate_time_offset = a.time_offset == "on";
+  if (a.given("--knot-rate")) o.knot_rate_hz = a.knot_rate;
+  if (a.given("--every")) o.frame_step = a.every;
   o.threads = a.threads;
   o.verbose = a.verbose;
   o.gravity = sensors.gravity;
+  auto bound = [&](const char* flag, double value, double& field) {
+    if (!a.given(flag)) return;
+    if (!(value > 0)) throw data::InputError(kCli, 0, flag, "must be positive");
+    field = value;
+  };
+  bound("--max-translation", a.max_translation, vo.max_translation_m);
+  bound("--max-accel-bias", a.max_accel_bias, vo.max_accel_bias);
+  bound("--max-gyro-bias", a.max_gyro_bias, vo.max_gyro_bias);
   const calib::CameraImuResult r = calib::calibrateCameraImu(
       views, sensors.camera, imu, sensors.imu, o,
       {a.corners.empty() ? a.images : a.corners, a.imu, intrinsics_input});
+  const calib::CalibrationVerdict verdict = calib::judgeCameraImu(r, o, vo);
 
   calib::CameraImuReportContext ctx;
   ctx.corners_input = a.corners.empty() ? a.images : a.corners;
@@ -457,18 +480,23 @@ void runCameraImu(const CameraImuArgs& a) {
     ctx.reference_name = a.reference;
     ctx.reference_T_I_C = calib::readEurocCameraToImu(a.reference);
   }
-  makeDir(a.out);
   const fs::path out(a.out);
+  std::string report = calib::formatCameraImuReport(r, o, verdict, ctx);
+  report += strprintf("\nTotal time (reading %.2f s + calibration %.2f s): %.2f s\n", read_seconds,
+                      r.seconds, secondsSince(t0));
+  if (verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << report;
+    failCalibration(verdict, (out / "camchain-imucam.yaml").string());
+  }
+  makeDir(a.out);
   data::writeTextFileAtomically((out / "camchain-imucam.yaml").string(),
-                                calib::formatCamchainImuCamYaml(sensors.camera, r));
+                                calib::verdictYamlComment(verdict) +
+                                    calib::formatCamchainImuCamYaml(sensors.camera, r));
   // formatImuYaml's header says the figures come from Allan deviation; here they are an input.
   std::string imu_yaml = calib::formatImuYaml(sensors.imu);
   imu_yaml = "# IMU noise figures used by adugs calib camera-imu (from " + sensors_source +
              "); continuous-time densities.\n" + imu_yaml.substr(imu_yaml.find('\n') + 1);
   data::writeTextFileAtomically((out / "imu.yaml").string(), imu_yaml);
-  std::string report = calib::formatCameraImuReport(r, o, ctx);
-  report += strprintf("\nTotal time (reading %.2f s + calibration %.2f s): %.2f s\n", read_seconds,
-                      r.seconds, secondsSince(t0));
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   const double rate = sensors.imu.update_rate_hz;
   writePng((out / "gyro_residuals.png").string(),
@@ -482,6 +510,8 @@ void runCameraImu(const CameraImuArgs& a) {
   std::cout << report << "Wrote " << (out / "camchain-imucam.yaml").string()
             << ", imu.yaml, report.txt, gyro_residuals.png, accel_residuals.png, "
                "reprojection_histogram.png\n";
+  if (verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on this calibration\n";
 }
 
 }  // namespace
@@ -552,6 +582,11 @@ void registerCalibCommand(CLI::App& root) {
   cimu->add_option("--every", ci->every, "Use one frame in N")->capture_default_str();
   cimu->add_option("--threads", ci->threads, "Threads")->capture_default_str();
   cimu->add_flag("--verbose", ci->verbose, "Print the solver progress");
+  cimu->add_option("--options", ci->options, "Options YAML (calibration keys + verdict: ...; flags override it)");
+  cimu->add_option("--max-translation", ci->max_translation, "Verdict: camera-IMU distance above which the result fails [m] (default 0.5)");
+  cimu->add_option("--max-accel-bias", ci->max_accel_bias, "Verdict: accelerometer bias above which the result fails [m/s^2] (default 1)");
+  cimu->add_option("--max-gyro-bias", ci->max_gyro_bias, "Verdict: gyro bias above which the result fails [rad/s] (default 0.5)");
+  ci->cli = cimu;
   cimu->callback([ci] { runCameraImu(*ci); });
 }
 

@@ -36,8 +36,10 @@ std::string formatVerdict(const CalibrationVerdict& v, const std::string& what_w
          " was written, but the data do not pin it down:\n";
   else
     s += "FAILED: verdict FAILED. Nothing was written; the result cannot be trusted:\n";
-  for (const VerdictFinding& f : v.findings)
-    s += std::string("  - [") + verdictName(f.level) + "] " + f.check + ": " + f.what + "\n";
+  for (Verdict level : {Verdict::kFailed, Verdict::kWeak})  // the reasons it failed first
+    for (const VerdictFinding& f : v.findings)
+      if (f.level == level)
+        s += std::string("  - [") + verdictName(f.level) + "] " + f.check + ": " + f.what + "\n";
   if (!v.record_next.empty()) {
     s += "Record next:\n";
     for (const std::string& a : v.record_next) s += "  * " + a + "\n";

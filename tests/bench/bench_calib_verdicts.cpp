@@ -15,9 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "calib/camera_imu_input.h"
+#include "calib/camera_imu_report.h"
+#include "calib/camera_imu_verdict.h"
 #include "calib/corner_csv.h"
 #include "calib/intrinsics_calibrator.h"
 #include "calib/intrinsics_verdict.h"
+#include "calib/text_format.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/calib/synthetic_views.h"
@@ -73,10 +77,98 @@ std::vector<TargetObservation> pick(const std::vector<TargetObservation>& all,
   return out;
 }
 
+void runCameraImu(const std::string& name, const std::vector<TargetObservation>& views,
+                  const PinholeCamera& camera, const ImuRecording& imu, const ImuNoiseFigures& noise,
+                  double gravity, const Eigen::Isometry3d& T_C_I_truth, double shift_truth) {
+  CameraImuOptions o;
+  o.gravity = gravity;
+  CameraImuResult r;
+  try {
+    r = calibrateCameraImu(views, camera, imu, noise, o);
+  } catch (const std::exception& e) {
+    std::printf("%s\terror\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t%s\n", name.c_str(), e.what());
+    return;
+  }
+  const CalibrationVerdict v = judgeCameraImu(r, o);
+  double angle = 0, dist = 0;
+  compareTransforms(r.T_C_I, T_C_I_truth, angle, dist);
+  const double dp = (r.T_C_I.inverse().translation() - T_C_I_truth.inverse().translation()).norm();
+  std::string findings;
+  for (const auto& f : v.findings) findings += (findings.empty() ? "" : ",") + f.check;
+  std::printf("%s\t%s\t%.1f\t%d\t%.3f\t%.1f\t%.3f\t%.3f\t%.3f\t%.3f\t%.2f\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\t%.1f\t%s\n",
+              name.c_str(), verdictName(v.verdict), r.duration_s, r.frames_used, angle, dp * 1000,
+              (r.time_shift_s - shift_truth) * 1000, r.excitation(0), r.excitation(2),
+              r.has_sigma ? r.sigma_rotation.maxCoeff() * 180 / M_PI : -1,
+              r.has_sigma ? r.sigma_translation.maxCoeff() * 1000 : -1,
+              r.has_sigma ? r.sigma_time_shift_s * 1000 : -1, r.reprojection_rms_px,
+              r.accel_bias.norm(), r.gyro_bias.norm(), r.T_C_I.inverse().translation().norm(),
+              r.seconds, findings.c_str());
+  std::fflush(stdout);
+}
+
+int cameraImuSets(bool quick) {
+  std::printf("set\tverdict\tduration_s\tframes\trot_err_deg\ttrans_err_mm\tshift_err_ms\t"
+              "excitation_max\texcitation_min\trot_sigma_deg\ttrans_sigma_mm\tshift_sigma_ms\t"
+              "rms_px\taccel_bias\tgyro_bias\tdistance_m\tseconds\tfindings\n");
+  // Synthetic (tests/calib/camera_imu_synthetic.h): known T_C_I and a 5 ms shift.
+  for (double duration : {4.0, 8.0, 16.0})
+    for (unsigned seed = 1; seed <= (quick ? 1u : 3u); ++seed) {
+      const auto rec = synth::makeCameraImuRecording(duration, 0.005, 0.3, seed);
+      runCameraImu("synthetic_full_" + std::to_string(static_cast<int>(duration)) + "s_s" + std::to_string(seed),
+                   rec.views, rec.camera, rec.imu, rec.noise, adugs::data::kSimGravity, rec.T_C_I, 0.005);
+    }
+  for (auto [motion, label] : {std::pair{synth::RigMotion::kPlanar, "planar"}, std::pair{synth::RigMotion::kStill, "still"}})
+    for (unsigned seed = 1; seed <= (quick ? 1u : 2u); ++seed) {
+      const auto rec = synth::makeCameraImuRecording(16.0, 0.005, 0.3, seed, 1'000'000'000'000, true, motion);
+      runCameraImu(std::string("synthetic_") + label + "_16s_s" + std::to_string(seed), rec.views, rec.camera,
+                   rec.imu, rec.noise, adugs::data::kSimGravity, rec.T_C_I, 0.005);
+    }
+  {  // the IMU stops half-way through the images
+    auto rec = synth::makeCameraImuRecording(16.0, 0.005, 0.3, 1);
+    const size_t half = rec.imu.t_ns.size() / 2;
+    rec.imu.t_ns.resize(half), rec.imu.gyro.resize(half), rec.imu.accel.resize(half);
+    runCameraImu("synthetic_imu_half_16s", rec.views, rec.camera, rec.imu, rec.noise,
+                 adugs::data::kSimGravity, rec.T_C_I, 0.005);
+  }
+  // EuRoC imu_april windows against the published T_BS.
+  const auto shared = adugs::test::sharedDataDir();
+  const auto dir = shared / "euroc_calib_aprilgrid" / "imu_april";
+  const auto reference = shared / "euroc_v101_micro" / "mav0" / "cam0" / "sensor.yaml";
+  if (!std::filesystem::exists(dir) || !std::filesystem::exists(reference)) {
+    std::fprintf(stderr, "shared data not found at %s: real sets skipped\n", dir.c_str());
+    return 0;
+  }
+  const CameraImuSensors sensors = readYacCalibConfig((dir / "config.yaml").string());
+  const auto views = readCornerCsvs((dir / "cam0").string(), nullptr);
+  const ImuRecording imu = readImuCsv((dir / "imu0.csv").string());
+  const Eigen::Isometry3d T_C_I_ref = readEurocCameraToImu(reference.string()).inverse();
+  std::vector<std::pair<double, double>> windows;  // start, duration [s]
+  for (double d : {3.0, 5.0, 10.0})
+    for (double at : quick ? std::vector<double>{0, 36} : std::vector<double>{0, 18, 36, 54}) windows.push_back({at, d});
+  for (double at : quick ? std::vector<double>{0} : std::vector<double>{0, 26, 52}) windows.push_back({at, 20});
+  if (!quick) windows.push_back({0, 36}), windows.push_back({36, 36});
+  windows.push_back({0, 80});
+  for (auto [at, d] : windows) {
+    std::vector<TargetObservation> part;
+    for (const auto& v : views) {
+      const double t = static_cast<double>(v.t_ns - views.front().t_ns) * 1e-9;
+      if (t >= at && t < at + d) part.push_back(v);
+    }
+    runCameraImu(strprintf("euroc_imu_april_%gs_at%gs", d, at), part, sensors.camera, imu, sensors.imu,
+                 sensors.gravity, T_C_I_ref, 0);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false, camera_imu = false;
+  for (int i = 1; i < argc; ++i) {
+    quick |= std::strcmp(argv[i], "--quick") == 0;
+    camera_imu |= std::strcmp(argv[i], "--camera-imu") == 0;
+  }
+  if (camera_imu) return cameraImuSets(quick);
   const int seeds = quick ? 2 : 5;
   header();
   const AprilGrid grid = synth::eurocGrid();

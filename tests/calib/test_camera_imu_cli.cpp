@@ -83,6 +83,38 @@ TEST(CameraImuCli, SyntheticRunWritesKalibrFilesReportAndPlots) {
        {"report.txt", "gyro_residuals.png", "accel_residuals.png", "reprojection_histogram.png"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
   EXPECT_NE(out.find("timeshift_cam_imu"), std::string::npos);
+  // 7.5 s of frames (< 10 s): weak, written with the warning on stdout, in the report and at the
+  // top of camchain-imucam.yaml.
+  EXPECT_NE(out.find("WARNING: verdict WEAK"), std::string::npos) << out;
+  EXPECT_NE(out.find("duration: 7.5 s of frames"), std::string::npos) << out;
+  std::string yaml;
+  test::runCommand("cat " + dir + "/camchain-imucam.yaml", &yaml);
+  EXPECT_EQ(yaml.rfind("# verdict: weak\n", 0), 0u) << yaml;
+  EXPECT_EQ(out.find("Terminating"), std::string::npos) << out;
+}
+
+// A rig that never moved: failed, exit code 3, nothing written.
+TEST(CameraImuCli, StillRigFailsWithExitThree) {
+  REQUIRE_ADUGS();
+  test::TempDir tmp("adugs_cimu_cli");
+  const WrittenRecording w = writeRecording(
+      tmp, synth::makeCameraImuRecording(4.0, 0.0, 0.3, 3, 1'000'000'000'000, true, synth::RigMotion::kStill));
+  std::string out;
+  const std::string dir = (tmp / "out").string();
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu +
+                               " --config " + w.config + " --out " + dir,
+                           &out),
+            3)
+      << out;
+  EXPECT_NE(out.find("degenerate motion"), std::string::npos) << out;
+  EXPECT_NE(out.find("adugs: calibration failed"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/camchain-imucam.yaml"));
+  // The bound options are checked like any input.
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu +
+                               " --config " + w.config + " --out " + dir + " --max-translation -1",
+                           &out),
+            2)
+      << out;
 }
 
 TEST(CameraImuCli, MissingImuFileIsNamed) {
