@@ -23,6 +23,7 @@
 #include "calib/chessboard.h"
 #include "calib/corner_csv.h"
 #include "calib/image_source.h"
+#include "calib/imu_noise_verdict.h"
 #include "calib/intrinsics_calibrator.h"
 #include "calib/intrinsics_verdict.h"
 #include "calib/kalibr_yaml.h"
@@ -346,27 +347,45 @@ void runIntrinsics(const IntrinsicsArgs& a) {
 // ------------------------------------------------------------------- imu
 struct ImuArgs {
   std::string imu;
+  std::string options;
   std::string out = "imu_out";
   double rate_hz = 0;
   int points = 60;
 };
 
 void runImu(const ImuArgs& a) {
+  calib::ImuNoiseVerdictOptions vo;
+  if (!a.options.empty()) {
+    auto reader = data::YamlOptionsReader::fromFile(a.options);
+    auto v = reader.child("verdict");
+    calib::readImuNoiseVerdictOptions(v, vo);
+    v.finish();
+    reader.finish();
+  }
   const calib::ImuRecording rec = calib::readImuCsv(a.imu);
   calib::AllanOptions o;
   o.points = a.points;
   const auto t0 = std::chrono::steady_clock::now();
   const calib::ImuNoiseResult r = calib::estimateImuNoise(rec, o);
   const double seconds = secondsSince(t0);
-  makeDir(a.out);
+  const calib::CalibrationVerdict verdict = calib::judgeImuNoise(r, vo);
+  const std::string report =
+      calib::formatImuNoiseReport(r, a.imu, seconds, calib::formatVerdict(verdict, "imu.yaml"));
   const fs::path out(a.out);
+  if (verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << report;
+    failCalibration(verdict, (out / "imu.yaml").string());
+  }
+  makeDir(a.out);
   calib::ImuNoiseFigures f = r.figures;
   if (a.rate_hz > 0) f.update_rate_hz = a.rate_hz;
-  data::writeTextFileAtomically((out / "imu.yaml").string(), calib::formatImuYaml(f));
-  const std::string report = calib::formatImuNoiseReport(r, a.imu, seconds);
+  data::writeTextFileAtomically((out / "imu.yaml").string(),
+                                calib::verdictYamlComment(verdict) + calib::formatImuYaml(f));
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   writePng((out / "allan.png").string(), calib::renderAllanPlot(r));
   std::cout << report << "Wrote " << (out / "imu.yaml").string() << ", report.txt, allan.png\n";
+  if (verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on these figures\n";
 }
 
 
@@ -564,6 +583,7 @@ void registerCalibCommand(CLI::App& root) {
   imu->add_option("--out", im->out, "Output folder")->capture_default_str();
   imu->add_option("--rate", im->rate_hz, "Rate written to imu.yaml [Hz] (default: from timestamps)");
   imu->add_option("--points", im->points, "Cluster times on the log-spaced axis")->capture_default_str();
+  imu->add_option("--options", im->options, "Options YAML (verdict: ...)");
   imu->callback([im] { runImu(*im); });
 
   auto ci = std::make_shared<CameraImuArgs>();

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "calib/allan_variance.h"
+#include "calib/imu_noise_verdict.h"
 #include "calib/camera_imu_input.h"
 #include "calib/camera_imu_report.h"
 #include "calib/camera_imu_verdict.h"
@@ -160,15 +162,76 @@ int cameraImuSets(bool quick) {
   return 0;
 }
 
+// White noise of density N plus a bias random walk of density K, per axis, at rate_hz.
+std::vector<Eigen::Vector3d> simulateImuAxis(double N, double K, double rate_hz, size_t n, std::mt19937_64& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  const double dt = 1.0 / rate_hz;
+  std::vector<Eigen::Vector3d> out(n);
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    bias += K * std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    out[i] = bias + N / std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
+  }
+  return out;
+}
+
+double adevAt(const SensorNoise& n, double tau) {  // mean over axes, nearest cluster time
+  size_t best = 0;
+  for (size_t i = 0; i < n.curve.tau.size(); ++i)
+    if (std::abs(std::log(n.curve.tau[i] / tau)) < std::abs(std::log(n.curve.tau[best] / tau))) best = i;
+  return n.curve.adev.empty() ? 0 : n.curve.adev[best].mean();
+}
+
+// The Allan analysis against simulated static recordings of several lengths (the errors of N and
+// K), and what a moving recording looks like (EuRoC imu_april, the V1_01 flight).
+int allanSets(bool quick) {
+  std::printf("set\tduration_s\tverdict\tgyro_N_err_pct\tgyro_K_err_pct\taccel_N_err_pct\t"
+              "accel_K_err_pct\tgyro_rw_ratio\taccel_rw_ratio\tgyro_adev1s\taccel_adev1s\tfindings\n");
+  const double rate = 200, gN = 1.7e-4, gK = 1.9e-5, aN = 2e-3, aK = 3e-3;  // EuRoC's figures
+  auto row = [&](const std::string& name, const ImuRecording& rec, double gn, double gk, double an, double ak) {
+    const ImuNoiseResult r = estimateImuNoise(rec);
+    const CalibrationVerdict v = judgeImuNoise(r);
+    std::string findings;
+    for (const auto& f : v.findings) findings += (findings.empty() ? "" : ",") + f.check;
+    auto pct = [](double got, double truth) { return truth > 0 ? 100 * (got - truth) / truth : 0.0; };
+    std::printf("%s\t%.0f\t%s\t%.1f\t%.1f\t%.1f\t%.1f\t%.2f\t%.2f\t%.3g\t%.3g\t%s\n", name.c_str(),
+                r.duration_s, verdictName(v.verdict), pct(r.gyro.white, gn), pct(r.gyro.random_walk, gk),
+                pct(r.accel.white, an), pct(r.accel.random_walk, ak), randomWalkVisibility(r.gyro, r.duration_s),
+                randomWalkVisibility(r.accel, r.duration_s), adevAt(r.gyro, 1), adevAt(r.accel, 1), findings.c_str());
+    std::fflush(stdout);
+  };
+  for (double minutes : {1.0, 5.0, 15.0, 30.0, 60.0, 120.0}) {
+    for (unsigned seed = 1; seed <= (quick ? 2u : 6u); ++seed) {
+      std::mt19937_64 rng(seed);
+      const size_t n = static_cast<size_t>(minutes * 60 * rate);
+      ImuRecording rec;
+      rec.rate_hz = rate;
+      rec.gyro = simulateImuAxis(gN, gK, rate, n, rng);
+      rec.accel = simulateImuAxis(aN, aK, rate, n, rng);
+      for (size_t i = 0; i < n; ++i) rec.t_ns.push_back(static_cast<int64_t>(i) * 5000000);
+      row(strprintf("simulated_static_%gmin_s%u", minutes, seed), rec, gN, gK, aN, aK);
+    }
+  }
+  const auto shared = adugs::test::sharedDataDir();
+  for (const auto& path : {shared / "euroc_calib_aprilgrid" / "imu_april" / "imu0.csv",
+                           shared / "euroc_v101_micro" / "mav0" / "imu0" / "data.csv"}) {
+    if (!std::filesystem::exists(path)) continue;
+    row("moving_" + path.parent_path().filename().string(), readImuCsv(path.string()), 0, 0, 0, 0);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, camera_imu = false;
+  bool quick = false, camera_imu = false, allan = false;
   for (int i = 1; i < argc; ++i) {
     quick |= std::strcmp(argv[i], "--quick") == 0;
     camera_imu |= std::strcmp(argv[i], "--camera-imu") == 0;
+    allan |= std::strcmp(argv[i], "--allan") == 0;
   }
   if (camera_imu) return cameraImuSets(quick);
+  if (allan) return allanSets(quick);
   const int seeds = quick ? 2 : 5;
   header();
   const AprilGrid grid = synth::eurocGrid();
