@@ -299,8 +299,12 @@ void runIntrinsics(const IntrinsicsArgs& a) {
                    : strprintf("AprilGrid %dx%d, tag %g m, spacing %g", grid.tag_rows,
                                grid.tag_cols, grid.tag_size_m, grid.tag_spacing);
 
+  o.intrinsics.progress = [](const std::string& what) {
+    std::cerr << "\r  calibrating: " << what << std::string(20, ' ') << std::flush;
+  };
   const calib::IntrinsicsResult r =
       calib::calibrateIntrinsics(d.views, d.width, d.height, o.intrinsics);
+  std::cerr << "\r" << std::string(100, ' ') << "\r" << std::flush;
   if (!a.reference.empty()) {
     const data::CameraCalibration ref = data::readEurocCameraYaml(a.reference);
     ctx.has_reference = true;

@@ -24,7 +24,7 @@ struct CameraImuVerdictOptions {
   double failed_translation_sigma_m = 0.05;
   double failed_time_shift_sigma_s = 0.01;
   // weak below / above:
-  double min_duration_s = 10;         // span of the frames with a board pose
+  double min_duration_s = 8;          // span of the frames with a board pose
   double min_weak_axis_rate = 0.05;   // rad/s RMS about the least excited axis
   double max_frames_outside_imu = 0.1;  // share of the frames with the target
   double max_rotation_sigma_deg = 0.1;  // formal 1-sigma of T_C_I's rotation, worst axis

@@ -128,6 +128,7 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
     so.min_focal_over_width = options.min_focal_over_width;
     so.max_focal_over_width = options.max_focal_over_width;
     so.threads = options.threads;
+    if (options.progress) options.progress("start: scoring focal lengths");
     const auto ts = std::chrono::steady_clock::now();
     result.focal_start = findFocalStart(obs, width, height, options.model, so);
     f = result.focal_start.focal_px;
@@ -154,6 +155,9 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
   // One solve of the current stage over the current inliers. Bounds keep the focal length in the
   // plausible range and the principal point in the image (a result on a bound fails the verdict).
   auto solve = [&](IntrinsicsStage stage, bool robust) {
+    if (options.progress)
+      options.progress(strprintf("stage %d/3, %s, %zu views", static_cast<int>(stage) + 1,
+                                 stageName(stage), views.size()));
     ceres::Problem problem;
     for (View& v : views)
       for (size_t i = 0; i < v.obs->corners.size(); ++i)
@@ -181,8 +185,10 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
                                 ? options.max_iterations
                                 : std::max(1, options.max_iterations / 4);
     so.num_threads = options.threads;
-    so.function_tolerance = 1e-10;
-    so.parameter_tolerance = 1e-10;
+    // The Huber solves only prepare the next solve: converged to 1e-6 is close enough. The plain
+    // least-squares solves of the last stage give the result: to 1e-10.
+    so.function_tolerance = robust ? 1e-6 : 1e-10;
+    so.parameter_tolerance = robust ? 1e-6 : 1e-10;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     result.iterations += static_cast<int>(summary.iterations.size());
@@ -337,6 +343,7 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
   }
 
   if (options.compute_covariance && result.final_solve_usable && n > 0) {
+    if (options.progress) options.progress("covariance");
     // Covariance of the 8 intrinsics with the poses marginalised: the Schur complement
     // S = Hii - sum_v Hip Hpp^-1 Hpi of J'J, built view by view from the evaluated Jacobian
     // (much faster than a dense covariance over every pose).

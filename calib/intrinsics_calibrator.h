@@ -15,6 +15,7 @@
 // image (bounds); whether the result can be trusted is calib/intrinsics_verdict's job.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,8 @@ struct IntrinsicsOptions {
   double max_focal_over_width = 5.0;
   bool compute_covariance = true;    // parameter standard deviations in the report
   double min_border_distance_px = 0; // corners closer to the image border are not used
+  // Told what the calibration is doing (long sets take minutes); not from YAML.
+  std::function<void(const std::string&)> progress;
 };
 
 // Reads the keys above (distortion_model as a name: radtan | equidistant). Unknown keys are

@@ -145,7 +145,7 @@ int cameraImuSets(bool quick) {
   const ImuRecording imu = readImuCsv((dir / "imu0.csv").string());
   const Eigen::Isometry3d T_C_I_ref = readEurocCameraToImu(reference.string()).inverse();
   std::vector<std::pair<double, double>> windows;  // start, duration [s]
-  for (double d : {3.0, 5.0, 10.0})
+  for (double d : {3.0, 5.0, 7.0, 10.0})
     for (double at : quick ? std::vector<double>{0, 36} : std::vector<double>{0, 18, 36, 54}) windows.push_back({at, d});
   for (double at : quick ? std::vector<double>{0} : std::vector<double>{0, 26, 52}) windows.push_back({at, 20});
   if (!quick) windows.push_back({0, 36}), windows.push_back({36, 36});
