@@ -542,6 +542,10 @@ void runCameraImu(const CameraImuArgs& a) {
 void registerCalibCommand(CLI::App& root) {
   CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, camera-IMU, IMU noise");
   calib->require_subcommand(1);
+  calib->footer(
+      "Every calibration result carries a verdict: ok; weak (written, with a WARNING and what to "
+      "record next); failed (nothing written). Exit codes: 0 written (ok or weak), 2 input error, "
+      "3 verdict failed. How to record and how to read the verdicts: doc/calibration.md.");
 
   auto t = std::make_shared<TargetArgs>();
   CLI::App* target = calib->add_subcommand("target", "Render a printable AprilGrid (PNG + vector PDF + YAML)");

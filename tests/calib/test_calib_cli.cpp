@@ -125,6 +125,13 @@ TEST(CalibCli, BadInputsFailWithAClearMessage) {
                            &out),
             2);
   EXPECT_NE(out.find("--resolution"), std::string::npos) << out;
+  // A misspelt verdict bound is named, not ignored.
+  test::writeText(tmp / "o.yaml", "verdict:\n  max_focal_rel_sigmaa: 0.01\n");
+  EXPECT_EQ(test::runAdugs("calib intrinsics --corners " + dir.string() + " --resolution 752x480 --options " +
+                               (tmp / "o.yaml").string() + " --out " + tmp.path().string(),
+                           &out),
+            2);
+  EXPECT_NE(out.find("verdict.max_focal_rel_sigmaa"), std::string::npos) << out;
   // Too few views: keep two of the CSVs.
   fs::create_directories(tmp / "two");
   int copied = 0;

@@ -83,7 +83,7 @@ TEST(CameraImuCli, SyntheticRunWritesKalibrFilesReportAndPlots) {
        {"report.txt", "gyro_residuals.png", "accel_residuals.png", "reprojection_histogram.png"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
   EXPECT_NE(out.find("timeshift_cam_imu"), std::string::npos);
-  // 7.5 s of frames (< 10 s): weak, written with the warning on stdout, in the report and at the
+  // 7.5 s of frames (< 8 s): weak, written with the warning on stdout, in the report and at the
   // top of camchain-imucam.yaml.
   EXPECT_NE(out.find("WARNING: verdict WEAK"), std::string::npos) << out;
   EXPECT_NE(out.find("duration: 7.5 s of frames"), std::string::npos) << out;
