@@ -229,7 +229,10 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
         sum_sq += r.squaredNorm();
       }
     if (axis.empty()) return 0.0;
-    return robust_sigma ? 1.4826 * median(axis) : std::sqrt(sum_sq / axis.size());
+    // Floor: on exact (synthetic, noise-free) corners sigma is ~1e-10 px and "3 sigma" would
+    // reject corners for rounding; no real detector is better than 0.01 px.
+    constexpr double kMinSigmaPx = 0.01;
+    return std::max(kMinSigmaPx, robust_sigma ? 1.4826 * median(axis) : std::sqrt(sum_sq / axis.size()));
   };
   // A view left with too few corners cannot hold its pose.
   auto dropThinViews = [&]() {

@@ -126,6 +126,17 @@ TEST(IntrinsicsCalibrator, SinglePoseSetIsWeak) {
   EXPECT_FALSE(j.verdict.has("undetermined"));
 }
 
+// Exact corners: recovered exactly, nothing rejected (sigma has a floor), verdict ok.
+TEST(IntrinsicsCalibrator, NoiseFreeViewsAreRecoveredExactly) {
+  const PinholeCamera truth = synth::eurocLikeCamera();
+  const auto views = synth::syntheticViews(truth, AprilGrid{}, 12, 0.0, 9);
+  const IntrinsicsOptions o;
+  const IntrinsicsResult r = calibrateIntrinsics(views, truth.width, truth.height, o);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(r.camera.params[i], truth.params[i], 1e-6 * std::max(1.0, std::abs(truth.params[i]))) << i;
+  EXPECT_EQ(r.outliers, 0);
+  EXPECT_EQ(judgeIntrinsics(r, o).verdict.verdict, Verdict::kOk);
+}
+
 TEST(IntrinsicsCalibrator, RejectsGrossOutliers) {
   const PinholeCamera truth = synth::eurocLikeCamera();
   auto views = synth::syntheticViews(truth, AprilGrid{}, 15, 0.2, 3);
