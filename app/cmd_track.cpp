@@ -5,6 +5,9 @@
 //                                              video, a folder of images (name order) or a
 //                                              sequence (its mav0/cam0/data); --detect-every n:
 //                                              every n-th frame, SORT's predictions in between;
+//                                              --write-detections keeps its boxes as DIR/det.txt;
+//   --detections det.txt INPUT                 the file's detections, INPUT's images for the
+//                                              appearance cue, masks and overlay;
 // writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1);
 // with --segmenter the dynamic stage's masks (DynamicMasker: its own SORT with the mask's rules,
 // boxes segmented and refined), written as DIR/masks/NNNNNN.png with --masks; with --overlay a
@@ -12,8 +15,10 @@
 //
 // Track output rule (MOT files): a track is written in a frame when a detection was fused into it
 // in that frame and it has min_hits detections (or the sequence is younger than min_hits frames),
-// as the original SORT does; --write-coasting also writes the predicted boxes of tracks that
-// missed their detection (what the dynamic mask uses, but false positives for MOT scoring).
+// as the original SORT does; tracks that miss their detection are kept max_age frames to be found
+// again under the same id, but not written: --write-coasting also writes their predicted boxes
+// (what the dynamic mask uses, but false positives for MOT scoring). The original SORT:
+// --max-age 1 --min-hits 3 --beta-pos 16 --beta-size 16 --high-score 0 --keep-unconfirmed.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -30,7 +35,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "app/overlay_video.h"
+#include "app/pipeline/overlay_video.h"
 #include "calib/image_source.h"
 #include "tracking/appearance.h"
 #include "tracking/detector_factory.h"
@@ -49,27 +54,36 @@ struct TrackArgs {
   bool write_masks = false;
   double min_score = -1e9;
   bool write_coasting = false;
+  bool write_detections = false;
+  std::vector<int> classes;  // detector class ids kept (empty: every dynamic class the detector keeps)  // DIR/det.txt: the detector's boxes with scores, MOTChallenge det format
   int detect_every = 1;
   bool fixed_noise = false;
   tracking::SortOptions sort;
 };
 
-// One frame's worth of detections; false at the end of the input.
+// One frame's worth of detections; false at the end of the input. The detections come from a
+// detection file or a detector run on INPUT's images; with both a file and an INPUT, the images
+// serve the appearance cue, the masks and the overlay (frame k of the file = the k-th image).
 class DetectionFeed {
  public:
   explicit DetectionFeed(const TrackArgs& a) : a_(a) {
-    if (!a.detections.empty() == !a.video.empty())
-      throw CLI::ValidationError("input", "give either --detections det.txt or an INPUT (video, image folder, sequence) with --detector-model");
+    if (a.detections.empty() && a.video.empty())
+      throw CLI::ValidationError("input", "give --detections det.txt, or an INPUT (video, image folder, sequence) with --detector-model, or both");
     if (!a.detections.empty()) {
-      if (a.sort.appearance_weight > 0)
-        throw CLI::ValidationError("--appearance", "the appearance cue needs the images: give an INPUT, not --detections");
+      if (!a.detector_model.empty())
+        throw CLI::ValidationError("--detector-model", "the detections come from --detections; give one of the two");
+      if (!a.classes.empty())
+        throw CLI::ValidationError("--classes", "a detection file has no classes; --classes filters a detector's output");
+      if (a.sort.appearance_weight > 0 && a.video.empty())
+        throw CLI::ValidationError("--appearance", "the appearance cue needs the images: give the INPUT the detections belong to");
       file_ = data::readMotFile(a.detections);
       if (file_.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
       last_frame_ = file_.rbegin()->first;
-      return;
+    } else {
+      if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model (or --detections)");
+      detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
     }
-    if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model");
-    detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
+    if (a.video.empty()) return;
     // A sequence's camera images, an ASL camera folder, a folder of images (name order) or a video.
     const fs::path cam = fs::path(a.video) / "mav0" / "cam0";
     images_ = std::make_unique<calib::ImageSource>(fs::is_directory(cam) ? cam.string() : a.video);
@@ -78,22 +92,30 @@ class DetectionFeed {
   // detect: whether this frame's detections are wanted (--detect-every skips the others).
   bool next(int frame, bool detect, std::vector<tracking::Detection>* dets, cv::Mat* image) {
     dets->clear();
-    if (detector_) {
+    if (images_) {
       calib::ImageFrame f;
       if (!images_->next(f)) return false;
       *image = f.image;
-      if (detect) *dets = detector_->detect(*image);
-      if (a_.sort.appearance_weight > 0)
-        for (tracking::Detection& d : *dets) d.appearance = tracking::boxHistogram(*image, d.box);
-      return true;
+    } else if (frame > last_frame_) {
+      return false;
     }
-    if (frame > last_frame_) return false;
     if (!detect) return true;
-    if (const auto it = file_.find(frame); it != file_.end())
+    if (detector_) {
+      *dets = detector_->detect(*image);
+      if (!a_.classes.empty())
+        dets->erase(std::remove_if(dets->begin(), dets->end(),
+                                   [&](const tracking::Detection& d) {
+                                     return std::find(a_.classes.begin(), a_.classes.end(), d.class_id) == a_.classes.end();
+                                   }),
+                    dets->end());
+    } else if (const auto it = file_.find(frame); it != file_.end()) {
       for (const data::MotBox& b : it->second)
         if (b.confidence >= a_.min_score)
           dets->push_back(
               {tracking::Box::fromCorners(b.left, b.top, b.left + b.width, b.top + b.height), 0, b.confidence});
+    }
+    if (a_.sort.appearance_weight > 0)
+      for (tracking::Detection& d : *dets) d.appearance = tracking::boxHistogram(*image, d.box);
     return true;
   }
 
@@ -108,6 +130,7 @@ class DetectionFeed {
 void runTrack(const TrackArgs& a) {
   DetectionFeed feed(a);
   tracking::SortOptions options = a.sort;
+  if (options.high_score < 0) options.high_score = a.detections.empty() ? 0.6 : 0.8;
   if (a.fixed_noise) options.filter.lambda = 1e6;  // erf saturates at once: R = beta, a fixed R
   tracking::SortTracker tracker(options);
   fs::create_directories(a.out_dir);
@@ -115,6 +138,16 @@ void runTrack(const TrackArgs& a) {
   std::ofstream out(path);
   if (!out) throw data::InputError(path, 0, "", "cannot write");
   out << std::fixed << std::setprecision(2);
+  // The detections as a MOTChallenge det.txt, so the tracker can be re-run on them (--detections)
+  // without the detector, as the MOT benchmarks' public detections are.
+  std::ofstream det_out;
+  const std::string det_path = (fs::path(a.out_dir) / "det.txt").string();
+  if (a.write_detections) {
+    if (a.detector_model.empty()) throw CLI::ValidationError("--write-detections", "needs an INPUT and --detector-model");
+    det_out.open(det_path);
+    if (!det_out) throw data::InputError(det_path, 0, "", "cannot write");
+    det_out << std::fixed << std::setprecision(2);
+  }
   std::unique_ptr<OverlayVideo> overlay;
   if (!a.overlay.empty()) overlay = std::make_unique<OverlayVideo>(a.overlay, 10.0);
   // The masks: the dynamic stage with its own SORT (the mask's rules: coasting boxes kept).
@@ -137,6 +170,12 @@ void runTrack(const TrackArgs& a) {
     // Frames the detector skips get the tracks predicted to them; a track counts as found there
     // when it was found at the last detection.
     const bool detect_this = detect;
+    if (det_out.is_open()) {
+      for (const tracking::Detection& d : dets)
+        det_out << frame << ",-1," << d.box.left() + 1 << "," << d.box.top() + 1 << "," << d.box.w << "," << d.box.h
+                << "," << std::setprecision(4) << d.score << std::setprecision(2) << ",-1,-1,-1\n";
+      det_out.flush();
+    }
     const std::vector<tracking::TrackedObject> tracks =
         detect ? tracker.update(dets, frames_since_detection) : tracker.predict(frames_since_detection);
     frames_since_detection = detect ? 1 : frames_since_detection + 1;
@@ -177,12 +216,21 @@ void runTrack(const TrackArgs& a) {
 
 void registerTrackCommand(CLI::App& root) {
   auto args = std::make_shared<TrackArgs>();
-  args->sort.max_age = 1;
+  // The MOT output's defaults (doc/results.md "Enhanced SORT on real detections": chosen on
+  // TUD-Campus and TUD-Stadtmitte only, then measured on the other MOT15 sequences): tracks kept 20
+  // frames for re-identification but written only when detected, R up to 256 px^2, ByteTrack's
+  // two stages, tentative tracks dropped at their first miss. The masker's SORT (`adugs run`,
+  // dynamic: map) keeps its own options.
+  args->sort.max_age = 20;
   args->sort.min_hits = 3;
+  args->sort.filter.beta_pos = 256;
+  args->sort.filter.beta_size = 256;
+  args->sort.high_score = -1;  // set by the input in runTrack
+  args->sort.drop_unconfirmed_on_miss = true;
   CLI::App* cmd = root.add_subcommand(
       "track", "Run the enhanced SORT tracker on MOTChallenge detections or on a detector's output for a video");
   cmd->add_option("input", args->video,
-                  "video, folder of images or sequence to run the detector on (instead of --detections)")
+                  "video, folder of images or sequence: the detector's input, or with --detections the images the detections belong to")
       ->check(CLI::ExistingPath);
   cmd->add_option("--detections", args->detections, "MOTChallenge det.txt (frame,-1,left,top,w,h,score,...)")
       ->check(CLI::ExistingFile);
@@ -211,14 +259,37 @@ void registerTrackCommand(CLI::App& root) {
                   "use the detections of every n-th frame only; SORT's predictions fill the others")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--classes", args->classes,
+                  "INPUT: keep only detections of these class ids (COCO ids for darknet / YOLOX, e.g. 0 = person for pedestrian benchmarks; the model's ids for ultralytics)")
+      ->check(CLI::Range(0, 10000));
+  cmd->add_flag("--write-detections", args->write_detections,
+                "INPUT: also write the detector's boxes with their scores to DIR/det.txt (MOTChallenge det format, for --detections)");
   cmd->add_flag("--write-coasting", args->write_coasting,
                 "also write predicted boxes of tracks without a detection in the frame");
   cmd->add_option("--appearance", args->sort.appearance_weight,
-                  "INPUT: weight of the colour-histogram appearance cue in the association cost (0 = off)")
+                  "needs INPUT: weight of the colour-histogram appearance cue in the association cost (0 = off)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   cmd->add_flag("--recovery", args->sort.observation_centric_recovery,
                 "OC-SORT's observation-centric re-update when a coasting track is found again");
+  cmd->add_option("--high-score", args->sort.high_score,
+                  "ByteTrack: detections scoring below this start no track and only extend tracks found in the previous frame "
+                  "(0 = off; default 0.8 with --detections, tuned on TUD's public detections, 0.6 with a detector, ByteTrack's birth threshold for YOLOX)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--low-iou-min", args->sort.low_iou_min, "ByteTrack: smallest IoU of a low-score association")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--last-box", args->sort.last_box_association,
+                "OC-SORT's recovery: tracks left unmatched are matched by their last detected box");
+  cmd->add_option("--direction", args->sort.direction_weight,
+                  "OC-SORT's momentum: weight of the direction-consistency term in the association cost (0 = off)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--direction-frames", args->sort.direction_frames, "OC-SORT's momentum: detections spanned by a direction")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_flag("--drop-unconfirmed,!--keep-unconfirmed", args->sort.drop_unconfirmed_on_miss,
+                "delete a track that misses a frame before it has --min-hits detections (default; --keep-unconfirmed: let it coast)");
   tracking::AdaptiveNoiseOptions& r = args->sort.filter;
   cmd->add_option("--lambda", r.lambda, "adaptive R: R = beta * erf(lambda * innovation RMSE) [1/px]")
       ->check(CLI::Range(1e-6, 1e6))
@@ -232,6 +303,7 @@ void registerTrackCommand(CLI::App& root) {
   cmd->add_option("--window", r.window, "adaptive R: innovations kept (N)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+
   cmd->add_flag("--fixed-noise", args->fixed_noise,
                 "fixed measurement noise R = beta instead of the adaptive erf-shaped R (ablation)");
   cmd->callback([args] { runTrack(*args); });

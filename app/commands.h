@@ -9,6 +9,8 @@ void registerBagCommand(CLI::App& root);
 void registerCalibCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
 void registerEvalMotCommand(CLI::App& root);
+void registerLiveCommand(CLI::App& root);
+void registerRecordCommand(CLI::App& root);
 void registerRunCommand(CLI::App& root);
 void registerSimCommand(CLI::App& root);
 void registerTrackCommand(CLI::App& root);

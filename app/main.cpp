@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   root.require_subcommand(1);
   root.set_version_flag("--version", "adugs 0.1");
   adugs::app::registerRunCommand(root);
+  adugs::app::registerLiveCommand(root);
+  adugs::app::registerRecordCommand(root);
   adugs::app::registerEvalCommand(root);
   adugs::app::registerEvalMotCommand(root);
   adugs::app::registerCalibCommand(root);

@@ -43,8 +43,18 @@ RunConfig loadRunConfig(const std::string& path) {
     d.optional("segment_async", o.segment_async);
     d.optional("camera_motion_compensation", o.camera_motion_compensation);
     d.optional("appearance_weight", o.sort.appearance_weight, 0.0, 10.0);
+    d.optional("high_score", o.sort.high_score, 0.0, 1.0);
+    d.optional("drop_unconfirmed", o.sort.drop_unconfirmed_on_miss);
+    d.optional("last_box_association", o.sort.last_box_association);
+    d.optional("direction_weight", o.sort.direction_weight, 0.0, 10.0);
     if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
     d.finish();
+  }
+  if (r.has("pipeline")) {
+    data::YamlOptionsReader p = r.child("pipeline");
+    p.optional("frame_queue", c.pipeline.frame_queue, 1, 1000);
+    p.optional("test_estimator_delay_ms", c.pipeline.test_estimator_delay_ms, 0.0, 60000.0);
+    p.finish();
   }
   if (r.has("playback")) {
     data::YamlOptionsReader p = r.child("playback");

@@ -6,7 +6,11 @@
 //              noise: adaptive | fixed, SORT's max_age / min_hits / iou_min, the adaptive noise's
 //              lambda / beta_pos / beta_size / window, erode_radius_px / dilate_radius_px,
 //              min_box_side_px, segment_every (0 = auto: 10 for MobileSAM), segment_async,
-//              camera_motion_compensation)
+//              camera_motion_compensation, appearance_weight, and the association stages
+//              high_score / drop_unconfirmed / last_box_association / direction_weight)
+//   pipeline:  frame_queue (frames that may wait at the pipeline's entrance; live sources drop the
+//              oldest beyond it), test_estimator_delay_ms (FOR TESTS ONLY: a sleep per frame in the
+//              estimator stage, to check the live drop policy with an estimator slower than the camera)
 //   playback:  bag topics and the reorder window (image_topic, imu_topic, accel_topic,
 //              gyro_topic, gt_topic, gt_parent_frame, gt_child_frame, reorder_window_s); the
 //              command line's options win over these, these over the --dataset preset
@@ -20,10 +24,16 @@
 
 namespace adugs::app {
 
+struct PipelineConfig {
+  int frame_queue = 2;
+  double test_estimator_delay_ms = 0;
+};
+
 struct RunConfig {
   vio::FeatureTrackerOptions tracker;
   vio::EstimatorOptions estimator;
   tracking::DynamicMaskerOptions dynamic;
+  PipelineConfig pipeline;
   data::PlaybackOptions playback;  // only the topic / frame / window fields are read
 };
 

@@ -29,9 +29,9 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
           << "\n"
           << stats.extra_summary;
 
-  std::cout << "adugs run (" << estimator << "): " << stats.poses << " poses from " << stats.frames
-            << " frames (" << stats.sequence_s << " s of data) in " << stats.wall_s << " s\n"
-            << "  trajectory  " << trajectory_path << "\n";
+  std::cout << "adugs " << stats.command << " (" << estimator << "): " << stats.poses << " poses from " << stats.frames
+            << " frames (" << stats.sequence_s << " s of data) in " << stats.wall_s << " s\n";
+  if (!trajectory_path.empty()) std::cout << "  trajectory  " << trajectory_path << "\n";
 
   if (!gt_path.empty() && stats.poses >= 3) {
     const auto est = data::readTrajectory(trajectory_path);
@@ -56,7 +56,7 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
             << "gt_duplicates_dropped: " << gt_info.duplicates_dropped << "\n";
     const std::string plot = (fs::path(out_dir) / "eval.png").string();
     vio::PlotOptions plot_options;
-    plot_options.title = "adugs run (" + estimator + ")";
+    plot_options.title = "adugs " + stats.command + " (" + estimator + ")";
     vio::writeEvalPlot(plot, r, plot_options);
     char line[256];
     std::snprintf(line, sizeof(line),

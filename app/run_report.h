@@ -8,6 +8,7 @@
 namespace adugs::app {
 
 struct RunStats {
+  std::string command = "run";  // run | live
   size_t frames = 0;
   size_t imu_samples = 0;
   size_t poses = 0;
@@ -18,7 +19,7 @@ struct RunStats {
 };
 
 // Writes out_dir/summary.yaml, evaluates against gt_path when not empty (se3 alignment), prints
-// a short report on stdout.
+// a short report on stdout. trajectory_path "": no trajectory (vision-only runs).
 void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
                      const std::string& trajectory_path, const std::string& gt_path,
                      const RunStats& stats);

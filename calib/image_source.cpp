@@ -87,8 +87,8 @@ bool ImageSource::next(ImageFrame& frame) {
   if (kind_ == "video") {
     cv::Mat image;
     while (true) {
-      const double ms = video_.get(cv::CAP_PROP_POS_MSEC);
       if (!video_.read(image) || image.empty()) return false;
+      const double ms = video_.get(cv::CAP_PROP_POS_MSEC);  // of the frame just read
       const long n = video_frame_++;
       if (n % every_ != 0) continue;
       frame.t_ns = static_cast<int64_t>(ms * 1e6);

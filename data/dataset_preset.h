@@ -42,6 +42,7 @@ struct OpenedSequence {
   std::unique_ptr<SequenceSource> source;
   CameraCalibration camera;
   ImuNoise imu_noise;
+  bool has_imu = true;   // false: a camera alone (video, webcam): vision only, no odometry
   std::string gt_path;   // ground-truth file to evaluate against ("" if none)
   std::string mask_dir;  // the simulator's per-frame dynamic masks (ASL folders only; "" if none)
   std::string calibration_from;  // where the calibration came from, for the run summary

@@ -59,9 +59,11 @@ ImuNoise parseEurocImuYaml(const std::string& text, const std::string& source);
 
 // Write; numbers are printed in their shortest exact form. Throws InputError if the file cannot
 // be written.
-std::string formatEurocCameraYaml(const CameraCalibration& camera);
+// comment: the file's `comment:` value (e.g. where the calibration came from).
+std::string formatEurocCameraYaml(const CameraCalibration& camera, const std::string& comment = "written by adugs");
 std::string formatEurocImuYaml(const ImuNoise& imu);
-void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera);
+void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera,
+                          const std::string& comment = "written by adugs");
 void writeEurocImuYaml(const std::string& path, const ImuNoise& imu);
 
 }  // namespace adugs::data

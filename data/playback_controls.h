@@ -3,6 +3,7 @@
 // seconds after its first measurement, D seconds long; D <= 0 = to the end) and `--realtime`
 // (measurements are released no faster than sensor time, for visual checks and live-like runs).
 // Measurements before the window are read and discarded (sources stream, they cannot seek).
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -18,7 +19,7 @@ class PlaybackControls : public SequenceSource {
       : inner_(std::move(inner)), start_ns_(start_ns), duration_ns_(duration_ns), realtime_(realtime) {}
 
   bool next(Measurement& m) override {
-    while (!done_ && inner_->next(m)) {
+    while (!done_ && !stopped_ && inner_->next(m)) {
       if (first_t_ < 0) first_t_ = m.timeNs();
       const int64_t since_first = m.timeNs() - first_t_;
       if (since_first < start_ns_) continue;
@@ -31,6 +32,11 @@ class PlaybackControls : public SequenceSource {
   }
   SourceCounts counts() const override { return inner_->counts(); }
   std::string description() const override { return inner_->description(); }
+  bool isLive() const override { return inner_->isLive(); }
+  void stop() override {
+    stopped_ = true;
+    inner_->stop();
+  }
 
  private:
   void pace(int64_t sensor_ns) {
@@ -47,6 +53,7 @@ class PlaybackControls : public SequenceSource {
   bool realtime_;
   int64_t first_t_ = -1;
   bool done_ = false;
+  std::atomic<bool> stopped_{false};
   bool wall_started_ = false;
   std::chrono::steady_clock::time_point wall_start_;
 };

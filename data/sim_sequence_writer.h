@@ -7,13 +7,15 @@
 //   mav0/objects0/gt.txt                                   MOTChallenge CSV, one row per object
 //                                                          per frame (frame = 1-based row in
 //                                                          cam0/data.csv)
-// Images are written to a temporary name and renamed; CSV rows are flushed after their image, so a
-// killed run leaves a consistent (shorter) sequence.
+// The ASL part is data/asl_writer.h's (images written to a temporary name and renamed, CSV rows
+// flushed after their image, so a killed run leaves a consistent, shorter sequence); this class
+// adds the object ground truth and sim.yaml.
 #include <cstdint>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "data/asl_writer.h"
 #include "data/euroc_sensor_yaml.h"
 #include "data/sim_renderer.h"
 #include "data/types.h"
@@ -26,7 +28,7 @@ class SimSequenceWriter {
   // Throws InputError if a folder or file cannot be created.
   SimSequenceWriter(const std::string& root, const CameraCalibration& camera, const ImuNoise& imu);
 
-  // Whole files, written atomically.
+  // Whole files: the IMU rows (flushed), the ground truth (atomically).
   void writeImu(const std::vector<ImuSample>& samples);
   void writeGroundTruth(const std::vector<GroundTruthState>& states);
   // Free-form description of how the sequence was made (mav0/sim.yaml).
@@ -35,13 +37,12 @@ class SimSequenceWriter {
   // One frame: image, mask, CSV rows, MOT rows. Frames must come in increasing time.
   void writeFrame(int64_t t_ns, const SimFrame& frame);
 
-  int framesWritten() const { return frames_; }
-  const std::string& mavDir() const { return mav_; }
+  int framesWritten() const { return asl_.framesWritten(); }
+  const std::string& mavDir() const { return asl_.mavDir(); }
 
  private:
-  std::string mav_;
-  std::ofstream cam_csv_, mask_csv_, mot_;
-  int frames_ = 0;
+  AslWriter asl_;
+  std::ofstream mot_;
 };
 
 // "frame,id,bb_left,bb_top,bb_width,bb_height,conf,class,visibility" (no newline). bb_left/bb_top

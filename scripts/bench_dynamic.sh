@@ -13,11 +13,19 @@
 # Usage: scripts/bench_dynamic.sh [--out DIR] [--seeds "3 4 5"] [--scenes "room street"]
 #          [--levels "none low mid high"] [--duration 20] [--detector MODEL] [--jobs N]
 #          [--sam-encoder E.pt --sam-decoder D.pt] [--no-heatmap] [--results doc/results.md]
+#          [--ablation-levels "mid high"] [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]...
+#          [--candidate-levels "mid high"]
 # --results: writes the tables and the heatmap into that file (between the bench_dynamic markers)
 # and doc/images/; without it they are in DIR/report.md and DIR/heatmap.png.
+# --ablation-levels: the levels of the SORT ablation's runs (default: all).
+# --candidate: one more detector-chain column with other masker settings (keys of the run config's
+# `dynamic:` map, e.g. `--candidate age20=max_age:20`), run on --candidate-levels (default: all)
+# and compared with the default chain seed by seed on the same sequences.
+# ADUGS=path/to/adugs runs another binary (e.g. a copy, so that rebuilding does not change a
+# running benchmark).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-adugs="$root/build/app/adugs"
+adugs="${ADUGS:-$root/build/app/adugs}"
 out=/tmp/adugs_bench_dynamic
 seeds="3 4 5"
 scenes="room street"
@@ -25,7 +33,7 @@ levels="none low mid high"
 duration=20
 detector="$root/../shared/models/yolox_nano/yolox_nano.onnx"
 jobs=$(nproc)
-sam_encoder="" sam_decoder="" results="" heatmap=1
+sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -39,6 +47,9 @@ while [ $# -gt 0 ]; do
     --sam-decoder) sam_decoder="$2"; shift 2 ;;
     --results) results="$2"; shift 2 ;;
     --no-heatmap) heatmap=0; shift ;;
+    --candidate) candidates="$candidates $2"; shift 2 ;;
+    --candidate-levels) candidate_levels="$2"; shift 2 ;;
+    --ablation-levels) ablation_levels="$2"; shift 2 ;;
     *) echo "bench_dynamic: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -57,6 +68,18 @@ for n in $nmax_values; do
     printf 'tracker:\n  max_features: %s\n  min_distance_px: %s\n' "$n" "$d" > "$out/configs/grid_n${n}_d${d}.yaml"
   done
 done
+
+# Candidate masker settings: NAME=key:value,key:value -> configs/cand_NAME.yaml (dynamic: map).
+candidate_modes=""
+for c in $candidates; do
+  name="${c%%=*}" settings="${c#*=}"
+  [[ "$c" == *=* && "$name" =~ ^[A-Za-z0-9_]+$ && -n "$settings" ]] ||
+    { echo "bench_dynamic: --candidate $c: expected NAME=KEY:VALUE[,KEY:VALUE...]" >&2; exit 2; }
+  { echo "dynamic:"; tr ',' '\n' <<< "$settings" | sed 's/^\([^:]*\):/  \1: /'; } > "$out/configs/cand_$name.yaml"
+  candidate_modes="$candidate_modes cand_$name"
+done
+candidate_levels="${candidate_levels:-$levels}"
+ablation_levels="${ablation_levels:-$levels}"
 
 # 1. Sequences: every level of a (scene, seed) shares the world, path and IMU noise.
 sim_one() {  # scene seed
@@ -81,6 +104,7 @@ for scene in $scenes; do
     for level in $levels; do
       seq="$out/seq/${scene}_s${seed}/$level"
       for mode in $modes; do
+        if [[ $mode == det_fixed_r || $mode == det_no_sort ]] && [[ " $ablation_levels " != *" $level "* ]]; then continue; fi
         case $mode in
           none) opts="--mask none" ;;
           gt) opts="--mask gt" ;;
@@ -90,6 +114,10 @@ for scene in $scenes; do
           det_sam) opts="--mask detector --detector-model $detector --segmenter mobilesam --sam-encoder $sam_encoder --sam-decoder $sam_decoder" ;;
         esac
         echo "run_one ${scene}_s${seed}_${level}_${mode} $seq $opts" >> "$out/runs.txt"
+      done
+      case " $candidate_levels " in *" $level "*) ;; *) continue ;; esac
+      for mode in $candidate_modes; do
+        echo "run_one ${scene}_s${seed}_${level}_${mode} $seq $det --config $out/configs/$mode.yaml" >> "$out/runs.txt"
       done
     done
   done
@@ -120,4 +148,5 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --joblog "$out/joblog" < "$out/r
 # 3. Tables and heatmap.
 /usr/bin/python3 "$root/scripts/bench_dynamic_report.py" "$out" --seeds "$seeds" --scenes "$scenes" \
   --levels "$levels" --modes "$modes" --nmax "$nmax_values" --dmin "$dmin_values" \
-  --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"}
+  --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"} \
+  --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels"

@@ -7,7 +7,16 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <chrono>
+#include <csignal>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -50,6 +59,56 @@ void writeText(const fs::path& file, const std::string& text) {
 
 int runAdugs(const std::string& args, std::string* output) {
   return runCommand(std::string(ADUGS_BINARY) + " " + args, output);
+}
+
+AdugsProcess::AdugsProcess(const std::string& args, const fs::path& log) {
+  std::vector<std::string> words = {ADUGS_BINARY};
+  std::istringstream in(args);
+  for (std::string w; in >> w;) words.push_back(w);
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  const std::string log_path = log.string();
+  pid_ = fork();
+  if (pid_ < 0) throw std::runtime_error("fork failed");
+  if (pid_ == 0) {  // the child: only async-signal-safe calls until exec
+    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      close(fd);
+    }
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+}
+
+AdugsProcess::~AdugsProcess() {
+  if (pid_ > 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+}
+
+void AdugsProcess::signal(int sig) {
+  if (pid_ > 0) kill(pid_, sig);
+}
+
+int AdugsProcess::wait(std::chrono::seconds timeout) {
+  if (pid_ <= 0) return -1;
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    int status = 0;
+    const pid_t r = waitpid(pid_, &status, WNOHANG);
+    if (r == pid_) {
+      pid_ = -1;
+      if (WIFEXITED(status)) return WEXITSTATUS(status);
+      if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+      return -1;
+    }
+    if (std::chrono::steady_clock::now() >= until) return -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
 }
 
 int writeTestBag(const std::string& args, std::string* output) {

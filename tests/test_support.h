@@ -1,7 +1,10 @@
 #pragma once
 // Helpers shared by the test suites: where the shared real data lives, temp folders, running adugs.
+#include <chrono>
 #include <filesystem>
 #include <string>
+
+#include <sys/types.h>
 
 namespace adugs::test {
 
@@ -41,6 +44,25 @@ int runCommand(const std::string& command, std::string* output);
 const std::filesystem::path& pythonGenerated(const std::string& script);
 // Runs the built `adugs` binary with args; returns exit code; stdout+stderr go to *output.
 int runAdugs(const std::string& args, std::string* output);
+// The built `adugs` binary as a running process (fork + exec, no shell), for tests that signal it:
+// args are split on spaces; stdout and stderr go to `log`. The destructor kills (SIGKILL) and
+// reaps it if it still runs.
+class AdugsProcess {
+ public:
+  AdugsProcess(const std::string& args, const std::filesystem::path& log);
+  ~AdugsProcess();
+  AdugsProcess(const AdugsProcess&) = delete;
+  AdugsProcess& operator=(const AdugsProcess&) = delete;
+  void signal(int sig);
+  // Waits up to `timeout` for the process to end: its exit code, 128 + the signal that ended it,
+  // or -1 when it still runs.
+  int wait(std::chrono::seconds timeout);
+  bool running() const { return pid_ > 0; }
+
+ private:
+  pid_t pid_ = -1;
+};
+
 // Writes a ROS1 bag from an ASL folder with Debian's python3-rosbag
 // (tests/data/scripts/write_test_bag.py ARGS: ASL OUT.bag --layout ... [--compression ...]).
 int writeTestBag(const std::string& args, std::string* output);

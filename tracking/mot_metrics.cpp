@@ -91,7 +91,7 @@ MotSummary MotAccumulator::summary() const {
   return s;
 }
 
-void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
+std::vector<bool> MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
                               const std::vector<LabelledBox>& hyp,
                               const std::vector<Box>& ignored) {
   ++counts_.frames;
@@ -145,7 +145,10 @@ void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
     ++counts_.matches;
     counts_.iou_sum += intersectionOverUnion(gt[i].box, hyp[j].box);
     const auto last = last_match_.find(gt[i].id);
-    if (last != last_match_.end() && last->second != hyp[j].id) ++counts_.id_switches;
+    if (last != last_match_.end() && last->second != hyp[j].id) {
+      ++counts_.id_switches;
+      switches_.push_back({counts_.frames, gt[i].id, last->second, hyp[j].id});
+    }
     last_match_[gt[i].id] = hyp[j].id;
     current_match_[gt[i].id] = hyp[j].id;
   }
@@ -173,6 +176,9 @@ void MotAccumulator::addFrame(const std::vector<LabelledBox>& gt,
     for (int j = 0; j < m; ++j)
       if (!ignored_hyp[j] && intersectionOverUnion(gt[i].box, hyp[j].box) >= iou_min_)
         ++pair_overlaps_[{gt[i].id, hyp[j].id}];
+  std::vector<bool> scored(m);
+  for (int j = 0; j < m; ++j) scored[j] = !ignored_hyp[j];
+  return scored;
 }
 
 }  // namespace adugs::tracking

@@ -25,6 +25,12 @@ struct LabelledBox {
   Box box;
 };
 
+// A ground-truth object matched to another hypothesis than the one it was last matched to.
+struct IdSwitch {
+  int frame = 0;  // index of the addFrame() call, from 1
+  int64_t gt_id = 0, previous_hypothesis = 0, hypothesis = 0;
+};
+
 struct MotCounts {
   int frames = 0;
   int ground_truth = 0;  // GT boxes over all frames
@@ -64,15 +70,18 @@ class MotAccumulator {
   explicit MotAccumulator(double iou_min = 0.5) : iou_min_(iou_min) {}
   // ignored: ground-truth regions not scored (e.g. objects hidden beyond a visibility threshold,
   // as MOTChallenge treats occluded people): an unmatched hypothesis on one of them is neither a
-  // match nor a false positive.
-  void addFrame(const std::vector<LabelledBox>& ground_truth,
+  // match nor a false positive. Returns, per hypothesis, whether it was scored (false: it sits on
+  // an ignored region), so that other metrics (HOTA) can leave out the same boxes.
+  std::vector<bool> addFrame(const std::vector<LabelledBox>& ground_truth,
                 const std::vector<LabelledBox>& hypotheses, const std::vector<Box>& ignored = {});
   const MotCounts& counts() const { return counts_; }
+  const std::vector<IdSwitch>& idSwitches() const { return switches_; }
   MotSummary summary() const;
 
  private:
   double iou_min_;
   MotCounts counts_;
+  std::vector<IdSwitch> switches_;
   std::map<int64_t, int64_t> current_match_;  // gt id -> hypothesis id matched last frame
   std::map<int64_t, int64_t> last_match_;     // gt id -> hypothesis id matched most recently
   std::map<int64_t, std::vector<bool>> gt_matched_;  // gt id -> matched or not, per frame present

@@ -4,8 +4,12 @@
 // matches with IoU below iou_min are refused. Matched tracks fuse their detection, unmatched
 // detections start tracks, unmatched tracks coast on their prediction for up to max_age frames -
 // the predicted box stands in for a missed detection (partial or full occlusion) so the dynamic
-// mask keeps covering the object.
+// mask keeps covering the object. Optional association stages after the first (ByteTrack's
+// low-score detections, OC-SORT's last-box recovery) and cost terms (appearance, OC-SORT's
+// direction momentum): SortOptions and doc/tracking.md.
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -46,6 +50,28 @@ struct SortOptions {
   // between the detection's histogram and the track's (an exponential average, new = 0.2); pairs
   // still need IoU >= iou_min. 0 = off.
   double appearance_weight = 0.0;
+
+  // --- Association stages (doc/tracking.md "Association"); each off by default. ---
+  // ByteTrack's two stages: detections scoring below high_score never start a track and are only
+  // offered, after the first association, to the tracks that were found in the previous frame and
+  // are still unmatched (IoU >= low_iou_min). 0 = every detection is a high one.
+  double high_score = 0.0;
+  double low_iou_min = 0.5;
+  // OC-SORT's observation-centric recovery (OCR): tracks still unmatched after the first stage(s)
+  // are matched to the remaining detections by the IoU of their LAST DETECTED box instead of
+  // their prediction (a coasting prediction drifts; a person who stopped behind someone is where
+  // they were last seen).
+  bool last_box_association = false;
+  // OC-SORT's observation-centric momentum (OCM): the cost of a pair gets
+  //   - direction_weight * score * (pi/2 - angle) / pi,
+  // angle = between the track's direction of motion (its last detection minus the one
+  // direction_frames earlier) and the direction from that earlier detection to the candidate:
+  // a detection continuing the track's motion costs less than one behind it. 0 = off.
+  double direction_weight = 0.0;
+  int direction_frames = 3;
+  // A track that has not yet reached min_hits is deleted at its first missed frame (DeepSORT's
+  // tentative tracks): one-off false detections do not coast and steal later detections.
+  bool drop_unconfirmed_on_miss = false;
 };
 
 class SortTracker {
@@ -68,20 +94,31 @@ class SortTracker {
   int liveTracks() const { return static_cast<int>(tracks_.size()); }
 
  private:
+  struct Observation {
+    double time = 0;  // tracker time (sum of dt) of the detection
+    Box box;
+  };
   struct Track {
     TrackedObject object;
     AdaptiveBoxFilter filter;
     AdaptiveBoxFilter filter_at_last_detection;  // for the observation-centric re-update
     Box last_detection;
     double dt_since_detection = 0;
-    cv::Mat appearance;  // averaged boxHistogram, empty without
+    cv::Mat appearance;                    // averaged boxHistogram, empty without
+    std::deque<Observation> observations;  // the last direction_frames + 1 detections
   };
-  void fuse(Track& track, const Box& detection);
+  // Cost of associating a track with a detection, or a value > 1 + appearance when not allowed.
+  double associationCost(const Track& track, const Detection& detection, double iou) const;
+  void match(const std::vector<int>& track_ids, const std::vector<int>& detection_ids,
+             const std::vector<Detection>& detections, bool by_last_box, double iou_min,
+             std::vector<int>* detection_of_track, std::vector<bool>* detection_used) const;
+  void fuse(Track& track, const Detection& detection);
   bool reported(const Track& track) const;
   SortOptions options_;
   std::vector<Track> tracks_;
   int64_t next_id_ = 1;
   int frames_ = 0;
+  double time_ = 0;
 };
 
 }  // namespace adugs::tracking

@@ -180,7 +180,8 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   EXPECT_GT(fraction, 0.001) << summary;
   EXPECT_LT(fraction, 0.2) << summary;
   // The run config's dynamic: map: no SORT (the ablation) runs; bad keys and values are named.
-  writeText(out / "no_sort.yaml", "dynamic:\n  tracker: none\n  dilate_radius_px: 4\n");
+  writeText(out / "no_sort.yaml", "dynamic:\n  tracker: none\n  dilate_radius_px: 4\n  high_score: 0.5\n"
+                                  "  drop_unconfirmed: true\n  last_box_association: true\n  direction_weight: 0.2\n");
   ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
                          (ultralytics / "detect.torchscript").string() + " --segmenter box --config " +
                          (out / "no_sort.yaml").string() + " --out " + (out / "no_sort").string(),
@@ -192,7 +193,8 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   ASSERT_NE(no_sort_at, std::string::npos) << no_sort;
   EXPECT_GT(std::stod(no_sort.substr(no_sort_at + 23)), 0.001) << no_sort;
   for (const std::string& bad : {std::string("dynamic:\n  tracker: none\n  detect_every: 2\n"),
-                                 std::string("dynamic:\n  noize: fixed\n"), std::string("dynamic:\n  noise: fxed\n")}) {
+                                 std::string("dynamic:\n  noize: fixed\n"), std::string("dynamic:\n  noise: fxed\n"),
+                                 std::string("dynamic:\n  high_score: 1.5\n")}) {
     writeText(out / "bad.yaml", bad);
     EXPECT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --detector-model " +
                            (ultralytics / "detect.torchscript").string() + " --config " + (out / "bad.yaml").string() +
@@ -213,9 +215,9 @@ TEST_F(CmdRunVioSim, TorchScriptDetectorAndMobileSamRunTheDynamicStage) {
   EXPECT_NE(log.find("decoder_two_inputs.pt"), std::string::npos) << log;
 }
 
-// Front-end and estimator run on two threads; the front-end's gyro prediction always uses the
-// bias from two frames back, so two runs write the same bytes.
-TEST_F(CmdRunVioSim, TwoThreadPipelineIsDeterministic) {
+// Acquisition, detection, masking, front-end and estimator run on threads of their own; the front-end's gyro
+// prediction always uses the bias from two frames back, so two runs write the same bytes.
+TEST_F(CmdRunVioSim, ThreadedPipelineIsDeterministic) {
   TempDir a, b;
   // Ceres' wall-clock guard (max_solver_time_s) is lifted: under a sanitizer or a loaded machine
   // it would cut solves short by timing, which is not what this test is about.
@@ -230,7 +232,7 @@ TEST_F(CmdRunVioSim, TwoThreadPipelineIsDeterministic) {
   const std::string ta = readFile(a / "trajectory.tum"), tb = readFile(b / "trajectory.tum");
   EXPECT_GT(std::count(ta.begin(), ta.end(), '\n'), 80);
   EXPECT_EQ(ta, tb);
-  EXPECT_NE(readFile(a / "summary.yaml").find("threads: 2"), std::string::npos);
+  EXPECT_NE(readFile(a / "summary.yaml").find("threads: 5"), std::string::npos);
 }
 
 // A corrupt image half-way: the front-end thread's error reaches the user (file named, exit 2)

@@ -155,8 +155,10 @@ TEST(ImageSource, ReadsAnEurocCameraFolderAndAVideo) {
     ImageFrame f;
     ASSERT_TRUE(s.next(f));
     EXPECT_EQ(f.gray.type(), CV_8UC1);
+    EXPECT_EQ(f.t_ns, 0);
     ASSERT_TRUE(s.next(f));
     EXPECT_EQ(f.name, video + "#100");
+    EXPECT_EQ(f.t_ns, 10'000'000'000LL);  // 10 frames per second: each frame's own stream time
   }
   EXPECT_THROW(ImageSource("/nonexistent/folder"), data::InputError);
 }

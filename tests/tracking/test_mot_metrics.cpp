@@ -28,6 +28,11 @@ TEST(MotMetrics, HandWorkedSequence) {
   EXPECT_EQ(c.false_negatives, 1);
   EXPECT_EQ(c.false_positives, 2);
   EXPECT_EQ(c.id_switches, 1);
+  ASSERT_EQ(acc.idSwitches().size(), 1u);  // the event: frame 3, gt 2 from hypothesis 20 to 30
+  EXPECT_EQ(acc.idSwitches()[0].frame, 3);
+  EXPECT_EQ(acc.idSwitches()[0].gt_id, 2);
+  EXPECT_EQ(acc.idSwitches()[0].previous_hypothesis, 20);
+  EXPECT_EQ(acc.idSwitches()[0].hypothesis, 30);
   EXPECT_DOUBLE_EQ(c.mota(), 0.5);
   EXPECT_NEAR(c.motp(), (6 * 1.0 + 0.6) / 7, 1e-12);
   EXPECT_DOUBLE_EQ(c.recall(), 7.0 / 8.0);

@@ -190,3 +190,113 @@ TEST(SortTracker, CameraMotionCompensationKeepsTheBoxOnAPannedObject) {
 
 }  // namespace
 }  // namespace adugs::tracking
+
+namespace adugs::tracking {
+namespace {
+
+// ByteTrack's two stages (high_score): a person whose detector score drops to 0.5 for two frames
+// (partly hidden) keeps the track, found in those frames; a lone 0.5 detection elsewhere starts no
+// track. Without the split, the low-score box starts a track of its own.
+TEST(SortTracker, LowScoreDetectionsExtendTracksButStartNone) {
+  SortOptions o;
+  o.min_hits = 1;
+  o.high_score = 0.8;
+  SortTracker sort(o);
+  for (int f = 0; f < 3; ++f) sort.update({{Box{100.0 + 5 * f, 100, 40, 100}, 0, 0.95}});
+  for (int f = 3; f < 5; ++f) {
+    const auto out = sort.update({{Box{100.0 + 5 * f, 100, 40, 100}, 0, 0.5}, {Box{400, 100, 40, 100}, 0, 0.5}});
+    ASSERT_EQ(out.size(), 1u) << "frame " << f;
+    EXPECT_EQ(out[0].id, 1);
+    EXPECT_TRUE(out[0].detected);
+    EXPECT_EQ(sort.liveTracks(), 1);
+  }
+  SortOptions plain = o;
+  plain.high_score = 0;
+  SortTracker all(plain);
+  all.update({{Box{100, 100, 40, 100}, 0, 0.95}});
+  all.update({{Box{105, 100, 40, 100}, 0, 0.95}, {Box{400, 100, 40, 100}, 0, 0.5}});
+  EXPECT_EQ(all.liveTracks(), 2);
+}
+
+// A low-score detection is offered only to tracks found in the previous frame: a track that
+// coasted through a gap is not revived by one (a detector's doubtful box near a lost track).
+TEST(SortTracker, LowScoreDetectionsDoNotReviveLostTracks) {
+  SortOptions o;
+  o.min_hits = 1;
+  o.max_age = 5;
+  o.high_score = 0.8;
+  SortTracker sort(o);
+  for (int f = 0; f < 3; ++f) sort.update({{Box{100, 100, 40, 100}, 0, 0.95}});
+  sort.update({});
+  const auto out = sort.update({{Box{100, 100, 40, 100}, 0, 0.5}});
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].detected);
+  EXPECT_EQ(out[0].frames_missed, 2);
+}
+
+// OC-SORT's recovery (last_box_association): a person walking at 10 px per frame stops behind a
+// pillar for 4 frames and reappears where they were last seen. The coasting prediction ran 50 px
+// ahead (IoU 0 with a 30 px wide box): without the recovery a new identity starts, with it the
+// track's last detected box finds them.
+int64_t idAfterStoppingBehindAPillar(bool last_box) {
+  SortOptions o;
+  o.min_hits = 1;
+  o.max_age = 10;
+  o.last_box_association = last_box;
+  SortTracker sort(o);
+  for (int f = 0; f < 10; ++f) sort.update({{Box{100.0 + 10 * f, 200, 30, 90}, 0, 1.0}});
+  for (int f = 0; f < 4; ++f) sort.update({});
+  const auto out = sort.update({{Box{190, 200, 30, 90}, 0, 1.0}});
+  for (const TrackedObject& t : out)
+    if (t.detected) return t.id;
+  return -1;
+}
+
+TEST(SortTracker, LastBoxAssociationFindsAPersonWhoStoppedWhileHidden) {
+  EXPECT_EQ(idAfterStoppingBehindAPillar(true), 1);
+  EXPECT_EQ(idAfterStoppingBehindAPillar(false), 2);
+}
+
+// OC-SORT's momentum (direction_weight): a track moving right at 4 px per frame (40 x 100 box) is
+// offered a box 6 px above its prediction (IoU 0.89, direction 20.6 degrees off its motion seen
+// from 3 detections back) and one 7 px ahead (IoU 0.70, on its line of motion). IoU alone takes
+// the box above; the direction term (bonus w score (90 - angle) / 180: 0.386 w against 0.5 w)
+// prefers the one ahead once 0.114 w outweighs the IoU difference 0.185 (w = 2).
+double chosenY(double direction_weight) {
+  SortOptions o;
+  o.min_hits = 1;
+  o.direction_weight = direction_weight;
+  o.filter.beta_pos = o.filter.beta_size = 1e-3;  // trust the (exact) detections: prediction = last + 4
+  SortTracker sort(o);
+  for (int f = 0; f < 8; ++f) sort.update({{Box{100.0 + 4 * f, 200, 40, 100}, 0, 1.0}});
+  const double x = 100.0 + 4 * 8;
+  const auto out = sort.update({{Box{x, 194, 40, 100}, 0, 1.0}, {Box{x + 7, 200, 40, 100}, 0, 1.0}});
+  for (const TrackedObject& t : out)
+    if (t.id == 1) return t.box.cy;
+  return -1;
+}
+
+TEST(SortTracker, DirectionConsistencyPrefersTheDetectionAheadOfTheMotion) {
+  EXPECT_NEAR(chosenY(0), 194, 1.0);
+  EXPECT_NEAR(chosenY(2), 200, 1.0);
+}
+
+// Tentative tracks (drop_unconfirmed_on_miss): a one-frame false detection is forgotten at its
+// first missed frame instead of coasting max_age frames.
+TEST(SortTracker, UnconfirmedTracksAreDroppedAtTheirFirstMiss) {
+  for (const bool drop : {true, false}) {
+    SortOptions o;
+    o.min_hits = 3;
+    o.max_age = 10;
+    o.drop_unconfirmed_on_miss = drop;
+    SortTracker sort(o);
+    for (int f = 0; f < 5; ++f) sort.update({{Box{100, 100, 40, 100}, 0, 1.0}});
+    sort.update({{Box{100, 100, 40, 100}, 0, 1.0}, {Box{400, 100, 40, 100}, 0, 1.0}});  // a false box
+    EXPECT_EQ(sort.liveTracks(), 2);
+    sort.update({{Box{100, 100, 40, 100}, 0, 1.0}});
+    EXPECT_EQ(sort.liveTracks(), drop ? 1 : 2) << (drop ? "drop" : "keep");
+  }
+}
+
+}  // namespace
+}  // namespace adugs::tracking

@@ -1,7 +1,7 @@
 #pragma once
-// A closable FIFO between two threads of `adugs run` (front-end -> estimator, and the gyro bias
-// back). push blocks while full, pop while empty; after close(), push refuses and pop drains
-// what is left, then returns false. Either side closes it to stop the other.
+// A closable FIFO between two stages of the pipeline (app/pipeline/pipeline.h). push blocks while
+// full, pop while empty; after close(), push refuses and pop drains what is left, then returns
+// false. Either side closes it to stop the other.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -26,6 +26,20 @@ class Channel {
     return true;
   }
 
+  // Never waits: false (item left as it was) when the channel is full or closed.
+  bool tryPush(T& item) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (closed_ || items_.size() >= capacity_) return false;
+    items_.push_back(std::move(item));
+    not_empty_.notify_one();
+    return true;
+  }
+
+  bool closed() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return closed_;
+  }
+
   // False once the channel is closed and empty.
   bool pop(T* item) {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -46,7 +60,7 @@ class Channel {
 
  private:
   const size_t capacity_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable not_empty_, not_full_;
   std::deque<T> items_;
   bool closed_ = false;

@@ -1,4 +1,4 @@
-#include "app/overlay_video.h"
+#include "app/pipeline/overlay_video.h"
 
 #include <filesystem>
 #include <opencv2/imgproc.hpp>

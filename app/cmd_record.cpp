@@ -1,0 +1,192 @@
+// `adugs record`: writes what a live source gives (app/live/live_sources.h: --replay, --video,
+// --v4l2) into an EuRoC ASL folder (data/asl_writer.h: cam0 images, united IMU, sensor.yaml files)
+// that `adugs run`, `adugs calib ...` and `adugs track` read back.
+//
+// No acquired frame may be lost: the source is read on this thread and handed to a writer thread
+// through a queue that holds up to --max-queued-frames frames (PNG encoding or a slow disk may lag
+// behind for that long); if it overflows, the frame is counted as lost and the recording fails at
+// the end. At the end the folder is checked: rows of cam0/data.csv and images on disk = frames
+// acquired, rows of imu0/data.csv = IMU samples acquired. Ctrl-C (SIGINT/SIGTERM) or --duration
+// end the recording cleanly; everything acquired until then is written.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "app/commands.h"
+#include "app/live/live_sources.h"
+#include "app/pipeline/channel.h"
+#include "app/pipeline/stop_signal.h"
+#include "data/asl_writer.h"
+#include "data/atomic_file.h"
+#include "data/csv_reader.h"
+#include "data/input_error.h"
+
+namespace adugs::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct RecordArgs {
+  LiveSourceArgs source;
+  std::string out_dir;
+  int max_queued_frames = 300;
+  bool quiet = false;
+};
+
+struct RecordCounts {
+  std::atomic<size_t> frames_acquired{0}, imu_acquired{0}, frames_lost_queue{0};  // by the acquisition thread
+  size_t csv_frames = 0, image_files = 0, csv_imu = 0;                              // the check at the end
+};
+
+// Rows of an ASL CSV (after its header), 0 when the file does not exist.
+size_t csvRows(const fs::path& path) {
+  if (!fs::exists(path)) return 0;
+  data::CsvReader r(path.string());
+  size_t rows = 0;
+  while (r.next()) ++rows;
+  return rows;
+}
+
+size_t pngFiles(const fs::path& dir) {
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() && e.path().extension() == ".png";
+  return n;
+}
+
+void record(const RecordArgs& a) {
+  if (fs::exists(fs::path(a.out_dir) / "mav0"))
+    throw data::InputError(a.out_dir, 0, "--out", "already holds a recording (mav0/): choose a new folder");
+  data::OpenedSequence sequence = openLiveSource(a.source, "", a.out_dir);
+  data::SequenceSource& source = *sequence.source;
+  StopSignal stop_signal;
+  data::AslWriter writer(a.out_dir, sequence.camera, sequence.has_imu ? &sequence.imu_noise : nullptr, false,
+                         "recorded by adugs record; calibration: " + sequence.calibration_from);
+
+  // The writer thread: PNG encoding and disk off the acquisition thread.
+  Channel<data::Measurement> queue;
+  std::atomic<int> queued_frames{0};
+  std::exception_ptr writer_error;
+  std::thread writer_thread([&] {
+    data::Measurement m;
+    try {
+      while (queue.pop(&m)) {
+        if (m.isImu()) {
+          writer.writeImu(m.imu);
+        } else {
+          writer.writeFrame(m.frame.t_ns, m.frame.colour.empty() ? m.frame.image : m.frame.colour);
+          --queued_frames;
+        }
+      }
+      writer.flush();
+    } catch (...) {
+      writer_error = std::current_exception();
+      queue.close();
+      source.stop();
+    }
+  });
+
+  // The acquisition on its own thread, so that this one can watch Ctrl-C and print progress.
+  RecordCounts c;
+  std::exception_ptr source_error;
+  std::atomic<bool> acquiring{true};
+  std::thread acquisition([&] {
+    data::Measurement m;
+    try {
+      while (source.next(m)) {
+        if (m.isImu()) {
+          ++c.imu_acquired;
+        } else {
+          ++c.frames_acquired;
+          if (queued_frames >= a.max_queued_frames) {
+            ++c.frames_lost_queue;  // the writer is that far behind: counted, reported, fails the recording
+            continue;
+          }
+          ++queued_frames;
+        }
+        if (!queue.push(std::move(m))) break;
+        m = data::Measurement{};
+      }
+    } catch (...) {
+      source_error = std::current_exception();
+    }
+    queue.close();
+    acquiring = false;
+    stop_signal.wake();
+  });
+  auto last = std::chrono::steady_clock::now();
+  std::string stopped;
+  while (acquiring) {
+    if (stop_signal.wait(std::chrono::milliseconds(1000))) {
+      stopped = stop_signal.signalNumber() == SIGTERM ? "SIGTERM" : "SIGINT";
+      source.stop();
+    }
+    if (!a.quiet && std::chrono::steady_clock::now() - last >= std::chrono::seconds(1) && acquiring) {
+      last = std::chrono::steady_clock::now();
+      std::cerr << "record: " << c.frames_acquired << " frames, " << c.imu_acquired << " IMU samples, "
+                << queued_frames << " frames waiting to be written\n"
+                << std::flush;
+    }
+  }
+  acquisition.join();
+  writer_thread.join();
+
+  // The check: what is in the folder is what was acquired.
+  const fs::path mav = writer.mavDir();
+  c.csv_frames = csvRows(mav / "cam0/data.csv");
+  c.image_files = pngFiles(mav / "cam0/data");
+  c.csv_imu = sequence.has_imu ? csvRows(mav / "imu0/data.csv") : 0;
+  const size_t frames_kept = c.frames_acquired - c.frames_lost_queue;  // the acquisition has ended
+  const bool complete = c.frames_lost_queue == 0 && c.csv_frames == frames_kept && c.image_files == frames_kept &&
+                        c.csv_imu == (sequence.has_imu ? c.imu_acquired.load() : 0);
+  std::ostringstream summary;
+  summary << "source: \"" << source.description() << "\"\n"
+          << "calibration: \"" << sequence.calibration_from << "\"\n"
+          << "end: " << (source_error || writer_error ? "error" : stopped.empty() ? "end_of_source" : "stopped") << "\n";
+  if (!stopped.empty()) summary << "end_detail: \"" << stopped << "\"\n";
+  summary << "frames_acquired: " << c.frames_acquired << "\n"
+          << "frames_written: " << c.csv_frames << "\n"
+          << "image_files: " << c.image_files << "\n"
+          << "frames_lost_by_recorder: " << c.frames_lost_queue << "\n"
+          << "frames_lost_by_source: " << source.counts().frames_lost << "\n"
+          << "imu_samples_acquired: " << c.imu_acquired << "\n"
+          << "imu_samples_written: " << c.csv_imu << "\n"
+          << "complete: " << (complete ? "true" : "false") << "\n";
+  data::writeTextFileAtomically((fs::path(a.out_dir) / "record.yaml").string(), summary.str());
+  std::cout << "adugs record: " << c.csv_frames << " of " << c.frames_acquired << " frames and " << c.csv_imu << " of "
+            << c.imu_acquired << " IMU samples written to " << mav.string() << "\n"
+            << "  summary     " << (fs::path(a.out_dir) / "record.yaml").string() << "\n";
+  if (!stopped.empty()) std::cout << "  stopped by " << stopped << "; everything acquired until then is written\n";
+  if (source.counts().frames_lost > 0)
+    std::cout << "  the source itself lost " << source.counts().frames_lost << " frames before they arrived\n";
+  if (writer_error) std::rethrow_exception(writer_error);
+  if (source_error) std::rethrow_exception(source_error);
+  if (!complete)
+    throw std::runtime_error("the recording is incomplete: " + std::to_string(c.frames_lost_queue.load()) +
+                             " frames lost because the writer fell " + std::to_string(a.max_queued_frames) +
+                             " frames behind (slow disk?), " + std::to_string(c.csv_frames) + " frames in cam0/data.csv, " +
+                             std::to_string(c.image_files) + " images, of " + std::to_string(c.frames_acquired.load()) +
+                             " acquired (see " + (fs::path(a.out_dir) / "record.yaml").string() + ")");
+}
+
+}  // namespace
+
+void registerRecordCommand(CLI::App& root) {
+  auto args = std::make_shared<RecordArgs>();
+  CLI::App* cmd = root.add_subcommand(
+      "record", "Record a live source (--replay SEQ | --video FILE | --v4l2 DEV) into an EuRoC ASL folder");
+  addLiveSourceOptions(cmd, args->source);
+  cmd->add_option("--out", args->out_dir, "output folder (gets mav0/cam0, mav0/imu0, record.yaml)")->required();
+  cmd->add_option("--max-queued-frames", args->max_queued_frames,
+                  "frames that may wait to be written before frames are lost (and the recording fails)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_flag("-q,--quiet", args->quiet, "no progress on stderr");
+  cmd->callback([args] { record(*args); });
+}
+
+}  // namespace adugs::app

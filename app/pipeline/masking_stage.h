@@ -1,0 +1,57 @@
+#pragma once
+// The pipeline's dynamic-mask stage, on a thread of its own: per frame no mask, the simulator's
+// ground-truth mask (mav0/mask0), or the paper's chain after the detector (which runs in the stage
+// before, app/pipeline/detection_stage.h): enhanced SORT -> box segmentation -> refinement
+// (tracking/dynamic_masker.h), on the frame's colour image when the source has one.
+//
+// With the masker's camera-motion compensation on, the gyro rotation since the previous frame
+// uses the estimator's bias after frame k - 3 (app/pipeline/bias_feedback.h): one frame further
+// back than the front-end's, so this stage can work a frame ahead of it.
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+
+#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/channel.h"
+#include "app/pipeline/pipeline_frame.h"
+#include "data/camera_model.h"
+#include "tracking/dynamic_masker.h"
+#include "vio/frontend/gyro_rotation_predictor.h"
+
+namespace adugs::app {
+
+struct MaskingOptions {
+  std::string mask = "none";  // none | gt | detector
+  std::string mask_dir;       // the simulator's mav0/mask0/data folder ("" if the sequence has none)
+  std::string detector_model, detector_config;  // for the detection stage; darknet .cfg ("" = beside the .weights)
+  std::string segmenter = "grabcut", sam_encoder, sam_decoder;
+  tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement (run config's dynamic:)
+};
+
+class MaskingStage {
+ public:
+  // Loads the segmenter (errors name the files). T_B_C: its rotation turns gyro rotations into
+  // camera rotations.
+  MaskingStage(const MaskingOptions& options, const data::CameraModel& camera, const Eigen::Isometry3d& T_B_C);
+  ~MaskingStage();
+
+  // Until `in` is drained or `out` closed; then closes `out`. biases: nullptr without an
+  // estimator. Exceptions propagate.
+  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases);
+
+  // The frame-to-frame gap at which this stage's bias is taken (frame k uses the bias after k - 3).
+  static constexpr int kBiasDelay = 3;
+
+ private:
+  // False when the estimator stopped before the bias this frame needs.
+  bool process(PipelineFrame* frame, BiasFeedback* biases);
+
+  MaskingOptions options_;
+  data::CameraModel camera_;
+  Eigen::Matrix3d R_B_C_;
+  std::unique_ptr<tracking::DynamicMasker> masker_;
+  vio::GyroRotationPredictor gyro_;
+  int64_t previous_t_ = -1;
+};
+
+}  // namespace adugs::app

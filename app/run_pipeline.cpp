@@ -1,0 +1,184 @@
+#include "app/run_pipeline.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+
+#include "app/pipeline/pipeline.h"
+#include "app/run_config.h"
+#include "app/run_report.h"
+#include "data/input_error.h"
+#include "vio/estimator/sliding_window_estimator.h"
+
+namespace adugs::app {
+namespace {
+namespace fs = std::filesystem;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
+
+vio::ImuPreintegrationOptions imuOptions(const data::ImuNoise& noise) {
+  vio::ImuPreintegrationOptions o;
+  o.gyro_noise_density = noise.gyro_noise_density;
+  o.accel_noise_density = noise.accel_noise_density;
+  o.gyro_random_walk = noise.gyro_random_walk;
+  o.accel_random_walk = noise.accel_random_walk;
+  return o;
+}
+
+PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSequence& sequence,
+                                const PipelineRunArgs& a, const std::string& trajectory_path) {
+  PipelineOptions o;
+  o.masking.mask = a.mask.mask;
+  o.masking.mask_dir = sequence.mask_dir;
+  o.masking.detector_model = a.mask.detector_model;
+  o.masking.detector_config = a.mask.detector_config;
+  o.masking.segmenter = a.mask.segmenter;
+  o.masking.sam_encoder = a.mask.sam_encoder;
+  o.masking.sam_decoder = a.mask.sam_decoder;
+  o.masking.masker = config.dynamic;
+  if (a.mask.detect_every > 0) o.masking.masker.detect_every = a.mask.detect_every;
+  if (!o.masking.masker.track && o.masking.masker.detect_every != 1)
+    throw data::InputError("--detect-every", 0, "detect_every",
+                           "detecting every n-th frame needs the tracker (dynamic: tracker: sort)");
+  o.tracker = config.tracker;
+  o.estimate = sequence.has_imu;
+  o.estimator = config.estimator;
+  o.imu = imuOptions(sequence.imu_noise);
+  o.trajectory_path = trajectory_path;
+  o.view.overlay_path = a.overlay;
+  o.view.fps = sequence.camera.rate_hz > 0 ? sequence.camera.rate_hz : 20.0;
+  o.view.window = a.window;
+  o.view.title = "adugs " + a.command;
+  o.frame_queue = static_cast<size_t>(config.pipeline.frame_queue);
+  o.test_estimator_delay_ms = config.pipeline.test_estimator_delay_ms;
+  o.status_prefix = a.command;
+  o.status = !a.quiet;
+  return o;
+}
+
+// The lines of summary.yaml after writeRunOutputs' common ones.
+std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, const data::OpenedSequence& sequence,
+                         const RunConfig& config, const PipelineRunArgs& a) {
+  const PipelineStats& s = pipeline.stats();
+  const data::SourceCounts& counts = r.source_counts;
+  std::ostringstream out;
+  out << "source: \"" << sequence.source->description() << "\"\n"
+      << "calibration: \"" << sequence.calibration_from << "\"\n"
+      << "late_messages_dropped: " << counts.late_dropped << "\n"
+      << "imu_samples_dropped: " << counts.imu_dropped << "\n"
+      << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
+      << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
+      << "mask: " << a.mask.mask << "\n"
+      << "threads: " << r.threads << " (acquisition, detection, masking, front-end, "
+      << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 5 ? ", view" : "") << ")\n";
+  if (const vio::SlidingWindowEstimator* estimator = pipeline.estimator()) {
+    const vio::EstimatorStats& es = estimator->stats();
+    out << "keyframes: " << es.keyframes << "\n"
+        << "resets: " << es.resets << "\n"
+        << "frames_without_imu: " << es.frames_without_imu << "\n"
+        << "outliers_rejected: " << es.outliers_rejected << "\n"
+        << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
+        << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - r.first_t_ns) : -1.0) << "\n";
+    const Eigen::Isometry3d& T = estimator->extrinsic();
+    const Eigen::Isometry3d& T0 = sequence.camera.T_B_C;
+    const Eigen::Quaterniond q(T.rotation());
+    out << "extrinsic_estimated: " << (config.estimator.estimate_extrinsic ? "true" : "false") << "\n"
+        << "extrinsic_T_B_C: [" << T.translation().x() << ", " << T.translation().y() << ", " << T.translation().z()
+        << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]  # tx ty tz qx qy qz qw\n"
+        << "extrinsic_change_deg: "
+        << Eigen::AngleAxisd(T0.rotation().transpose() * T.rotation()).angle() * 180.0 / M_PI << "\n"
+        << "extrinsic_change_m: " << (T.translation() - T0.translation()).norm() << "\n"
+        << "time_offset_estimated: " << (config.estimator.estimate_time_offset ? "true" : "false") << "\n"
+        << "time_offset_s: " << estimator->timeOffset() << "  # t_imu = t_cam + td\n";
+    if (!es.last_failure.empty()) out << "last_failure: \"" << es.last_failure << "\"\n";
+    if (es.init_t_ns < 0 && !es.last_init_failure.empty())
+      out << "last_init_failure: \"" << es.last_init_failure << "\"\n";
+    out << "timing_ms:\n"
+        << "  frontend_median: " << median(s.frontend_ms) << "\n"
+        << "  frontend_mean: " << mean(s.frontend_ms) << "\n"
+        << "  backend_median: " << median(s.backend_ms) << "\n"
+        << "  backend_mean: " << mean(s.backend_ms) << "\n"
+        << "  solve_median: " << median(es.solve_ms) << "\n"
+        << "  solve_mean: " << mean(es.solve_ms) << "\n"
+        << "  marginalization_median: " << median(es.marginalization_ms) << "\n"
+        << "  marginalization_mean: " << mean(es.marginalization_ms) << "\n";
+  } else {
+    out << "timing_ms:\n"
+        << "  frontend_median: " << median(s.frontend_ms) << "\n"
+        << "  frontend_mean: " << mean(s.frontend_ms) << "\n";
+  }
+  out << "  dynamic_mask_median: " << median(s.mask_ms) << "  # detector + SORT, segmentation, refinement\n"
+      << "  detection_median: " << median(s.detect_ms) << "  # the frames the detector ran on\n"
+      << "  segmentation_median: " << median(s.segment_ms) << "  # SORT, segmentation, refinement\n"
+      << "  latency_median: " << median(s.latency_ms) << "  # source -> estimated\n"
+      << "dynamic_features_dropped_per_frame: " << mean(s.dynamic_drop) << "\n"
+      << "masked_image_fraction: " << mean(s.masked_fraction) << "\n";
+  if (s.exact_pixels > 0)  // --mask detector on a sequence with the simulator's exact masks
+    out << "dynamic_mask_vs_exact: {recall: " << s.exact_covered / s.exact_pixels
+        << ", precision: " << (s.masked_pixels > 0 ? s.exact_covered / s.masked_pixels : 0.0) << "}\n";
+  out << "features_per_frame: " << mean(s.features) << "\n"
+      << "command: " << a.command << "\n"
+      << "live: " << (r.live ? "true" : "false") << "\n"
+      << "end: " << toString(r.end) << "\n";
+  if (!r.why.empty()) {
+    std::string why = r.why;
+    std::replace(why.begin(), why.end(), '"', '\'');
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    out << "end_detail: \"" << why << "\"\n";
+  }
+  out << "frames_acquired: " << r.frames_acquired << "\n"
+      << "frames_dropped: " << r.frames_dropped << "  # live policy: the oldest waiting frame when the stages fall behind\n"
+      << "frames_lost_by_source: " << counts.frames_lost << "\n"
+      << "imu_samples_to_estimator: " << s.imu_to_estimator << "\n"
+      << "imu_samples_after_last_frame: " << r.imu_after_last_frame << "\n";
+  out << "cpu_s: " << r.cpu_s << "  # user + system, every thread\n"
+      << "cpu_per_sequence_s: " << (s.sequence_s > 0 ? r.cpu_s / s.sequence_s : 0.0)
+      << "  # below the machine's cores: it could keep up if the stages overlap\n"
+      << "stage_thread_cpu_s: {";
+  for (size_t i = 0; i < r.stage_cpu_s.size(); ++i)
+    out << (i ? ", " : "") << r.stage_cpu_s[i].first << ": " << r.stage_cpu_s[i].second;
+  out << "}  # each stage's own thread (library worker threads not included)\n";
+  if (r.threads > 5) out << "view_frames_skipped: " << s.view_frames_skipped << "  # live: the view never holds the pipeline back\n";
+  return out.str();
+}
+
+}  // namespace
+
+void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
+  const RunConfig config = loadRunConfig(a.config_path);
+  fs::create_directories(a.out_dir);
+  const std::string traj_path = sequence.has_imu ? (fs::path(a.out_dir) / "trajectory.tum").string() : "";
+  Pipeline pipeline(*sequence.source, sequence.camera, pipelineOptions(config, sequence, a, traj_path));
+  const PipelineResult r = pipeline.run();
+
+  const PipelineStats& s = pipeline.stats();
+  RunStats stats;
+  stats.command = a.command;
+  stats.frames = s.frames;
+  stats.poses = s.poses;
+  stats.imu_samples = r.imu_acquired;
+  stats.skipped_frames = r.source_counts.skipped_frames;
+  stats.sequence_s = s.sequence_s;
+  stats.wall_s = r.wall_s;
+  stats.extra_summary = summaryLines(pipeline, r, sequence, config, a);
+  if (r.end == PipelineResult::End::kStopped && !a.quiet)
+    std::cerr << a.command << ": stopped (" << r.why << ") after " << s.frames
+              << " frames; the frames already inside were finished and every output is written\n";
+  else if (r.end == PipelineResult::End::kEndOfSource && r.live && !a.quiet)
+    std::cerr << a.command << ": the source ended (" << sequence.source->description() << ") after "
+              << r.frames_acquired << " frames\n";
+  writeRunOutputs(a.out_dir, sequence.has_imu ? "vio" : "none", traj_path,
+                  r.end == PipelineResult::End::kError ? "" : sequence.gt_path, stats);
+  if (r.error) std::rethrow_exception(r.error);
+}
+
+}  // namespace adugs::app
