@@ -26,6 +26,7 @@
 #include "calib/text_format.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
+#include "tests/calib/imu_noise_synthetic.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
 
@@ -162,19 +163,6 @@ int cameraImuSets(bool quick) {
   return 0;
 }
 
-// White noise of density N plus a bias random walk of density K, per axis, at rate_hz.
-std::vector<Eigen::Vector3d> simulateImuAxis(double N, double K, double rate_hz, size_t n, std::mt19937_64& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double dt = 1.0 / rate_hz;
-  std::vector<Eigen::Vector3d> out(n);
-  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    bias += K * std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
-    out[i] = bias + N / std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
-  }
-  return out;
-}
-
 double adevAt(const SensorNoise& n, double tau) {  // mean over axes, nearest cluster time
   size_t best = 0;
   for (size_t i = 0; i < n.curve.tau.size(); ++i)
@@ -206,8 +194,8 @@ int allanSets(bool quick) {
       const size_t n = static_cast<size_t>(minutes * 60 * rate);
       ImuRecording rec;
       rec.rate_hz = rate;
-      rec.gyro = simulateImuAxis(gN, gK, rate, n, rng);
-      rec.accel = simulateImuAxis(aN, aK, rate, n, rng);
+      rec.gyro = synth::staticImuAxes(gN, gK, rate, n, rng);
+      rec.accel = synth::staticImuAxes(aN, aK, rate, n, rng);
       for (size_t i = 0; i < n; ++i) rec.t_ns.push_back(static_cast<int64_t>(i) * 5000000);
       row(strprintf("simulated_static_%gmin_s%u", minutes, seed), rec, gN, gK, aN, aK);
     }

@@ -7,23 +7,15 @@
 #include <gtest/gtest.h>
 
 #include "data/input_error.h"
+#include "tests/calib/imu_noise_synthetic.h"
 #include "tests/test_support.h"
 
 namespace adugs::calib {
 namespace {
 
-// White noise of density N plus a bias random walk of density K, sampled at rate_hz, per axis.
 std::vector<Eigen::Vector3d> simulate(double N, double K, double rate_hz, size_t n, unsigned seed) {
   std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double dt = 1.0 / rate_hz;
-  std::vector<Eigen::Vector3d> out(n);
-  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    bias += K * std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
-    out[i] = bias + N / std::sqrt(dt) * Eigen::Vector3d(g(rng), g(rng), g(rng));
-  }
-  return out;
+  return synth::staticImuAxes(N, K, rate_hz, n, rng);
 }
 
 TEST(AllanVariance, PureWhiteNoiseHasSlopeMinusHalf) {
