@@ -240,6 +240,9 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (a.images.empty() == a.corners.empty())
     throw data::InputError(kCli, 0, "--images", "give exactly one of --images and --corners");
   LoadedOptions o = loadOptions(a.options, true);
+  // Every input file is read before the detection and the solve: a typo is an error at once.
+  data::CameraCalibration ref;
+  if (!a.reference.empty()) ref = data::readEurocCameraYaml(a.reference);
   o.intrinsics.threads = a.threads;
   o.detector.threads = a.threads;
   if (!a.model.empty()) {
@@ -306,7 +309,6 @@ void runIntrinsics(const IntrinsicsArgs& a) {
       calib::calibrateIntrinsics(d.views, d.width, d.height, o.intrinsics);
   std::cerr << "\r" << std::string(100, ' ') << "\r" << std::flush;
   if (!a.reference.empty()) {
-    const data::CameraCalibration ref = data::readEurocCameraYaml(a.reference);
     ctx.has_reference = true;
     ctx.reference_name = a.reference;
     ctx.reference.width = ref.width;
@@ -427,6 +429,20 @@ void runCameraImu(const CameraImuArgs& a) {
     throw data::InputError(kCli, 0, "--knot-rate", "must be 1..200 Hz");
   if (a.every < 1) throw data::InputError(kCli, 0, "--every", "must be >= 1");
 
+  calib::CameraImuOptions o;
+  calib::CameraImuVerdictOptions vo;
+  if (!a.options.empty()) {
+    auto r = data::YamlOptionsReader::fromFile(a.options);
+    calib::readCameraImuOptions(r, o);
+    auto v = r.child("verdict");
+    calib::readCameraImuVerdictOptions(v, vo);
+    v.finish();
+    r.finish();
+  }
+  // Every input file is read before the detections and the solve: a typo is an error at once.
+  Eigen::Isometry3d reference_T_I_C = Eigen::Isometry3d::Identity();
+  if (!a.reference.empty()) reference_T_I_C = calib::readEurocCameraToImu(a.reference);
+
   // Intrinsics and IMU noise.
   calib::CameraImuSensors sensors;
   std::string intrinsics_input;
@@ -465,16 +481,6 @@ void runCameraImu(const CameraImuArgs& a) {
   const calib::ImuRecording imu = calib::readImuCsv(a.imu);
   const double read_seconds = secondsSince(t0);
 
-  calib::CameraImuOptions o;
-  calib::CameraImuVerdictOptions vo;
-  if (!a.options.empty()) {
-    auto r = data::YamlOptionsReader::fromFile(a.options);
-    calib::readCameraImuOptions(r, o);
-    auto v = r.child("verdict");
-    calib::readCameraImuVerdictOptions(v, vo);
-    v.finish();
-    r.finish();
-  }
   if (a.given("--estimate-time-offset")) o.estimate_time_offset = a.time_offset == "on";
   if (a.given("--knot-rate")) o.knot_rate_hz = a.knot_rate;
   if (a.given("--every")) o.frame_step = a.every;
@@ -501,7 +507,7 @@ void runCameraImu(const CameraImuArgs& a) {
   if (!a.reference.empty()) {
     ctx.has_reference = true;
     ctx.reference_name = a.reference;
-    ctx.reference_T_I_C = calib::readEurocCameraToImu(a.reference);
+    ctx.reference_T_I_C = reference_T_I_C;
   }
   const fs::path out(a.out);
   std::string report = calib::formatCameraImuReport(r, o, verdict, ctx);

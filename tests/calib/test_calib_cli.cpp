@@ -142,6 +142,14 @@ TEST(CalibCli, BadInputsFailWithAClearMessage) {
                            &out),
             2);
   EXPECT_NE(out.find("too few views"), std::string::npos) << out;
+  // A broken --reference is named before any calibration work (ahead of the too-few-views error).
+  test::writeText(tmp / "ref.yaml", "sensor_type: camera\n");
+  EXPECT_EQ(test::runAdugs("calib intrinsics --corners " + (tmp / "two").string() + " --resolution 752x480 --reference " +
+                               (tmp / "ref.yaml").string() + " --out " + tmp.path().string(),
+                           &out),
+            2);
+  EXPECT_NE(out.find("ref.yaml"), std::string::npos) << out;
+  EXPECT_EQ(out.find("too few views"), std::string::npos) << out;
   // Target YAML disagreeing with the CSVs.
   test::writeText(tmp / "t.yaml", "target_type: aprilgrid\ntagRows: 6\ntagCols: 6\n"
                                   "tagSize: 0.1\ntagSpacing: 0.3\n");

@@ -157,6 +157,14 @@ TEST(CameraImuCli, TooFewFramesIsAnError) {
             2);
   EXPECT_NE(out.find("too few usable frames"), std::string::npos) << out;
   EXPECT_NE(out.find(w.corners), std::string::npos) << out;
+  // A --reference without T_BS is named before any calibration work (not after a long solve):
+  // it is the error reported here, ahead of the too-few-frames one the solve would raise.
+  test::writeText(tmp / "ref.yaml", "sensor_type: camera\n");
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu + " --config " + w.config +
+                               " --reference " + (tmp / "ref.yaml").string() + " --out " + (tmp / "o").string(),
+                           &out),
+            2);
+  EXPECT_NE(out.find("ref.yaml:1: field 'T_BS'"), std::string::npos) << out;
 }
 
 TEST(CameraImuCli, IntrinsicsOfAnotherCameraAreAnError) {
