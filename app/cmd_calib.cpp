@@ -498,7 +498,8 @@ void runCameraImu(const CameraImuArgs& a) {
   const calib::CameraImuResult r = calib::calibrateCameraImu(
       views, sensors.camera, imu, sensors.imu, o,
       {a.corners.empty() ? a.images : a.corners, a.imu, intrinsics_input});
-  const calib::CalibrationVerdict verdict = calib::judgeCameraImu(r, o, vo);
+  calib::CalibrationVerdict verdict = calib::judgeCameraImu(r, o, vo);
+  calib::judgeCameraImuInputs(verdict, intrinsics_input, a.imu_yaml);
 
   calib::CameraImuReportContext ctx;
   ctx.corners_input = a.corners.empty() ? a.images : a.corners;

@@ -1,6 +1,9 @@
 #include "calib/calibration_verdict.h"
 
 #include <algorithm>
+#include <fstream>
+
+#include "data/input_error.h"
 
 namespace adugs::calib {
 
@@ -58,6 +61,14 @@ std::string verdictYamlComment(const CalibrationVerdict& v) {
     for (const std::string& a : v.record_next) s += "#   * " + a + "\n";
   }
   return s;
+}
+
+Verdict writtenVerdict(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw data::InputError(path, 0, "", "cannot open");
+  std::string first;
+  std::getline(in, first);
+  return first.rfind("# verdict: weak", 0) == 0 ? Verdict::kWeak : Verdict::kOk;
 }
 
 }  // namespace adugs::calib

@@ -45,6 +45,11 @@ std::string formatVerdict(const CalibrationVerdict& verdict, const std::string& 
 // The same as YAML comment lines ("# ..."), for the top of a written calibration file.
 std::string verdictYamlComment(const CalibrationVerdict& verdict);
 
+// The verdict a calibration file written by adugs states on its first line ("# verdict: weak");
+// kOk for "ok" and for a file without that line (written by another tool). An unreadable file
+// is an InputError naming it.
+Verdict writtenVerdict(const std::string& path);
+
 // Thrown by a command whose result failed its verdict; main() prints it and exits with
 // kExitCalibrationFailed. The message is the formatted verdict.
 class CalibrationFailed : public std::runtime_error {

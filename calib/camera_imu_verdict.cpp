@@ -157,4 +157,16 @@ CalibrationVerdict judgeCameraImu(const CameraImuResult& r, const CameraImuOptio
   return v;
 }
 
+void judgeCameraImuInputs(CalibrationVerdict& verdict, const std::string& intrinsics_file,
+                          const std::string& imu_noise_file) {
+  if (!intrinsics_file.empty() && writtenVerdict(intrinsics_file) == Verdict::kWeak)
+    verdict.add(Verdict::kWeak, "inputs",
+                "the intrinsics (" + intrinsics_file + ") were themselves judged weak (see the top of that file)",
+                "calibrate the intrinsics again from a better recording (the 'Record next' of their report)");
+  if (!imu_noise_file.empty() && writtenVerdict(imu_noise_file) == Verdict::kWeak)
+    verdict.add(Verdict::kWeak, "inputs",
+                "the IMU noise figures (" + imu_noise_file + ") were themselves judged weak (see the top of that file)",
+                "measure the IMU noise again from a longer static recording (the 'Record next' of its report)");
+}
+
 }  // namespace adugs::calib

@@ -40,4 +40,9 @@ void readCameraImuVerdictOptions(data::YamlOptionsReader& r, CameraImuVerdictOpt
 CalibrationVerdict judgeCameraImu(const CameraImuResult& result, const CameraImuOptions& calibration,
                                   const CameraImuVerdictOptions& options = {});
 
+// The inputs' own verdicts: intrinsics or IMU noise figures that adugs wrote with verdict weak
+// make the camera-IMU result weak too (it rests on them). Empty paths are skipped.
+void judgeCameraImuInputs(CalibrationVerdict& verdict, const std::string& intrinsics_file,
+                          const std::string& imu_noise_file);
+
 }  // namespace adugs::calib

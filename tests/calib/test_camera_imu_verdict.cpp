@@ -9,6 +9,7 @@
 
 #include "calib/camera_imu_input.h"
 #include "calib/corner_csv.h"
+#include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/test_support.h"
 
@@ -102,6 +103,28 @@ TEST(CameraImuVerdict, EachWeakCheck) {
   r = plausible();
   r.final_solve_converged = false;
   weakWith(r, "solver");
+}
+
+// Intrinsics or IMU noise figures written with verdict weak (their YAML's first line) make the
+// camera-IMU result weak too; ok files and files of other tools (no verdict line) do not.
+TEST(CameraImuVerdict, WeakInputsMakeItWeak) {
+  test::TempDir tmp("adugs_cimu_verdict");
+  const std::string weak = (tmp / "camchain.yaml").string(), ok = (tmp / "imu.yaml").string(),
+                    other = (tmp / "config.yaml").string();
+  test::writeText(weak, "# verdict: weak\n# WARNING: this calibration is WEAK\ncam0:\n");
+  test::writeText(ok, "# verdict: ok\nrostopic: /imu0\n");
+  test::writeText(other, "cam0:\n  # verdict: weak (not on the first line)\n");
+  const CameraImuOptions o;
+  CalibrationVerdict v = judgeCameraImu(plausible(), o);
+  ASSERT_EQ(v.verdict, Verdict::kOk) << formatVerdict(v, "");
+  judgeCameraImuInputs(v, other, ok);
+  EXPECT_EQ(v.verdict, Verdict::kOk) << formatVerdict(v, "");
+  judgeCameraImuInputs(v, weak, "");
+  EXPECT_EQ(v.verdict, Verdict::kWeak);
+  EXPECT_TRUE(v.has("inputs"));
+  EXPECT_NE(formatVerdict(v, "").find(weak), std::string::npos);
+  EXPECT_FALSE(v.record_next.empty());
+  EXPECT_THROW(judgeCameraImuInputs(v, (tmp / "missing.yaml").string(), ""), data::InputError);
 }
 
 // A rig that never moves: no rotation to align, not solved, failed.
