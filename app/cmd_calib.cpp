@@ -60,8 +60,7 @@ void writePng(const std::string& path, const cv::Mat& image) {
 // of an earlier run at would_write is pointed out, so nobody takes it for this run's result.
 [[noreturn]] void failCalibration(const calib::CalibrationVerdict& verdict,
                                   const std::string& would_write) {
-  std::string reason = verdict.findings.empty() ? "no reason given" : verdict.findings.front().what;
-  std::string message = reason + " (nothing was written";
+  std::string message = calib::failureReasons(verdict) + " (nothing was written";
   if (fs::exists(would_write)) message += "; " + would_write + " is from an earlier run";
   throw calib::CalibrationFailed(message + ")");
 }

@@ -51,6 +51,13 @@ std::string formatVerdict(const CalibrationVerdict& v, const std::string& what_w
   return s;
 }
 
+std::string failureReasons(const CalibrationVerdict& v) {
+  std::string s;
+  for (const VerdictFinding& f : v.findings)
+    if (f.level == Verdict::kFailed) s += (s.empty() ? "" : "; ") + f.what;
+  return s.empty() ? "no reason given" : s;
+}
+
 std::string verdictYamlComment(const CalibrationVerdict& v) {
   std::string s = std::string("# verdict: ") + verdictName(v.verdict) + "\n";
   if (v.verdict == Verdict::kOk) return s;

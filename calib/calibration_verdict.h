@@ -42,6 +42,9 @@ struct CalibrationVerdict {
 // framed WARNING / FAILED block listing the findings and what to record next.
 std::string formatVerdict(const CalibrationVerdict& verdict, const std::string& what_was_done);
 
+// Why a failed verdict failed, in one line: its failed findings (not the weak ones), "; "-joined.
+std::string failureReasons(const CalibrationVerdict& verdict);
+
 // The same as YAML comment lines ("# ..."), for the top of a written calibration file.
 std::string verdictYamlComment(const CalibrationVerdict& verdict);
 

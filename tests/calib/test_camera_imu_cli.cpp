@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "calib/corner_csv.h"
 #include "calib/text_format.h"
@@ -94,6 +96,36 @@ TEST(CameraImuCli, SyntheticRunWritesKalibrFilesReportAndPlots) {
 }
 
 // A rig that never moved: failed, exit code 3, nothing written.
+// Issue 18's camera-IMU case through the command line: the first 60 frames (3 s) of the shared
+// imu_april set used to exit 0 with an 11 m translation. Now exit 3, nothing written, and the
+// last line gives the failed reasons (not the weak findings listed before them).
+TEST(CameraImuCli, FirstThreeSecondsOfEurocFailWithExitThree) {
+  REQUIRE_ADUGS();
+  const auto dir = test::sharedDataDir() / "euroc_calib_aprilgrid" / "imu_april";
+  ADUGS_REQUIRE_SHARED(dir);
+  test::TempDir tmp("adugs_cimu_cli");
+  std::vector<fs::path> csvs;
+  for (const auto& e : fs::directory_iterator(dir / "cam0")) csvs.push_back(e.path());
+  std::sort(csvs.begin(), csvs.end());
+  ASSERT_GE(csvs.size(), 60u);
+  fs::create_directories(tmp / "first60");
+  for (size_t i = 0; i < 60; ++i) fs::copy_file(csvs[i], tmp / "first60" / csvs[i].filename());
+  std::string out;
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + (tmp / "first60").string() + " --imu " +
+                               (dir / "imu0.csv").string() + " --config " + (dir / "config.yaml").string() +
+                               " --out " + (tmp / "o").string(),
+                           &out),
+            3)
+      << out;
+  EXPECT_NE(out.find("over the 8152 corners"), std::string::npos) << out;
+  const size_t last = out.rfind("adugs: calibration failed: ");
+  ASSERT_NE(last, std::string::npos) << out;
+  const std::string last_line = out.substr(last);
+  EXPECT_NE(last_line.find("the camera sits"), std::string::npos) << last_line;
+  EXPECT_EQ(last_line.find("of frames with the board"), std::string::npos) << last_line;  // weak: duration
+  EXPECT_FALSE(fs::exists(tmp / "o" / "camchain-imucam.yaml"));
+}
+
 TEST(CameraImuCli, StillRigFailsWithExitThree) {
   REQUIRE_ADUGS();
   test::TempDir tmp("adugs_cimu_cli");

@@ -134,7 +134,10 @@ TEST(CalibrationVerdict, FormatsOkWeakAndFailed) {
   for (size_t at = 0; at < yaml.size(); at = yaml.find('\n', at) + 1) EXPECT_EQ(yaml[at], '#');
   EXPECT_NE(yaml.find("# verdict: weak"), std::string::npos);
   v.add(Verdict::kFailed, "plausibility", "fu at the bound");
+  v.add(Verdict::kFailed, "residuals", "RMS 21 px > 5 px");
   EXPECT_EQ(v.verdict, Verdict::kFailed);
+  // The one-line reason names the failed findings only, not the weak ones added before them.
+  EXPECT_EQ(failureReasons(v), "fu at the bound; RMS 21 px > 5 px");
   EXPECT_NE(formatVerdict(v, "x").find("FAILED: verdict FAILED. Nothing was written"), std::string::npos);
   v.add(Verdict::kWeak, "views", "5 < 10");  // never lowers the verdict
   EXPECT_EQ(v.verdict, Verdict::kFailed);
