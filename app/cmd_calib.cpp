@@ -15,13 +15,17 @@
 #include "calib/aprilgrid_render.h"
 #include "calib/aprilgrid_target_yaml.h"
 #include "calib/calibration_report.h"
+#include "calib/calibration_verdict.h"
 #include "calib/camera_imu_calibrator.h"
 #include "calib/camera_imu_input.h"
 #include "calib/camera_imu_report.h"
+#include "calib/camera_imu_verdict.h"
 #include "calib/chessboard.h"
 #include "calib/corner_csv.h"
 #include "calib/image_source.h"
+#include "calib/imu_noise_verdict.h"
 #include "calib/intrinsics_calibrator.h"
+#include "calib/intrinsics_verdict.h"
 #include "calib/kalibr_yaml.h"
 #include "calib/text_format.h"
 #include "calib/visp_camera_xml.h"
@@ -50,6 +54,15 @@ void makeDir(const std::string& dir) {
 
 void writePng(const std::string& path, const cv::Mat& image) {
   if (!cv::imwrite(path, image)) throw data::InputError(path, 0, "", "cannot write PNG");
+}
+
+// A failed verdict: nothing is written; main() prints the reason and exits with code 3. A file
+// of an earlier run at would_write is pointed out, so nobody takes it for this run's result.
+[[noreturn]] void failCalibration(const calib::CalibrationVerdict& verdict,
+                                  const std::string& would_write) {
+  std::string message = calib::failureReasons(verdict) + " (nothing was written";
+  if (fs::exists(would_write)) message += "; " + would_write + " is from an earlier run";
+  throw calib::CalibrationFailed(message + ")");
 }
 
 // ---------------------------------------------------------------- target
@@ -115,6 +128,7 @@ struct DetectArgs {
 
 struct LoadedOptions {
   calib::IntrinsicsOptions intrinsics;
+  calib::IntrinsicsVerdictOptions verdict;
   calib::DetectorOptions detector;
 };
 
@@ -122,7 +136,12 @@ LoadedOptions loadOptions(const std::string& path, bool with_intrinsics) {
   LoadedOptions o;
   if (path.empty()) return o;
   auto r = data::YamlOptionsReader::fromFile(path);
-  if (with_intrinsics) calib::readIntrinsicsOptions(r, o.intrinsics);
+  if (with_intrinsics) {
+    calib::readIntrinsicsOptions(r, o.intrinsics);
+    auto v = r.child("verdict");
+    calib::readIntrinsicsVerdictOptions(v, o.verdict);
+    v.finish();
+  }
   auto d = r.child("detector");
   d.optional("quad_decimate", o.detector.quad_decimate, 1.0f, 8.0f);
   d.optional("threads", o.detector.threads, 1, 256);
@@ -220,6 +239,9 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (a.images.empty() == a.corners.empty())
     throw data::InputError(kCli, 0, "--images", "give exactly one of --images and --corners");
   LoadedOptions o = loadOptions(a.options, true);
+  // Every input file is read before the detection and the solve: a typo is an error at once.
+  data::CameraCalibration ref;
+  if (!a.reference.empty()) ref = data::readEurocCameraYaml(a.reference);
   o.intrinsics.threads = a.threads;
   o.detector.threads = a.threads;
   if (!a.model.empty()) {
@@ -279,10 +301,13 @@ void runIntrinsics(const IntrinsicsArgs& a) {
                    : strprintf("AprilGrid %dx%d, tag %g m, spacing %g", grid.tag_rows,
                                grid.tag_cols, grid.tag_size_m, grid.tag_spacing);
 
+  o.intrinsics.progress = [](const std::string& what) {
+    std::cerr << "\r  calibrating: " << what << std::string(20, ' ') << std::flush;
+  };
   const calib::IntrinsicsResult r =
       calib::calibrateIntrinsics(d.views, d.width, d.height, o.intrinsics);
+  std::cerr << "\r" << std::string(100, ' ') << "\r" << std::flush;
   if (!a.reference.empty()) {
-    const data::CameraCalibration ref = data::readEurocCameraYaml(a.reference);
     ctx.has_reference = true;
     ctx.reference_name = a.reference;
     ctx.reference.width = ref.width;
@@ -296,47 +321,76 @@ void runIntrinsics(const IntrinsicsArgs& a) {
         d.views, r.camera, o.intrinsics.min_corners_per_view);
   }
 
-  makeDir(a.out);
+  const calib::IntrinsicsJudgement judgement = calib::judgeIntrinsics(r, o.intrinsics, o.verdict);
+  const std::string report = calib::formatIntrinsicsReport(r, judgement, ctx);
+  // The head of the report (summary, verdict, intrinsics, coverage, comparison) on stdout.
+  const std::string head = report.substr(0, report.find("Per view"));
   const fs::path out(a.out);
-  data::writeTextFileAtomically((out / "camchain.yaml").string(), calib::formatCamchainYaml(r.camera));
-  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera);
-  const std::string report = calib::formatIntrinsicsReport(r, ctx);
+  if (judgement.verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << head;
+    failCalibration(judgement.verdict, (out / "camchain.yaml").string());
+  }
+
+  makeDir(a.out);
+  const std::string comment = calib::verdictYamlComment(judgement.verdict);
+  data::writeTextFileAtomically((out / "camchain.yaml").string(),
+                                comment + calib::formatCamchainYaml(r.camera));
+  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera, "Camera", comment);
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   writePng((out / "residuals.png").string(), calib::renderResidualPlot(r));
+  writePng((out / "coverage.png").string(), calib::renderCoveragePlot(r, judgement));
   data::writeTextFileAtomically((out / "residuals.csv").string(), calib::formatResidualCsv(r));
   if (a.save_corners && !a.images.empty() && !is_chessboard) saveCorners((out / "corners").string(), grid, d);
 
-  // The head of the report (summary, intrinsics, comparison) on stdout.
-  const size_t cut = report.find("Per view");
-  std::cout << report.substr(0, cut);
+  std::cout << head;
   std::cout << "Wrote " << (out / "camchain.yaml").string()
-            << ", camera.xml, report.txt, residuals.png, residuals.csv\n";
+            << ", camera.xml, report.txt, residuals.png, coverage.png, residuals.csv\n";
+  if (judgement.verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on this calibration\n";
 }
 
 // ------------------------------------------------------------------- imu
 struct ImuArgs {
   std::string imu;
+  std::string options;
   std::string out = "imu_out";
   double rate_hz = 0;
   int points = 60;
 };
 
 void runImu(const ImuArgs& a) {
+  calib::ImuNoiseVerdictOptions vo;
+  if (!a.options.empty()) {
+    auto reader = data::YamlOptionsReader::fromFile(a.options);
+    auto v = reader.child("verdict");
+    calib::readImuNoiseVerdictOptions(v, vo);
+    v.finish();
+    reader.finish();
+  }
   const calib::ImuRecording rec = calib::readImuCsv(a.imu);
   calib::AllanOptions o;
   o.points = a.points;
   const auto t0 = std::chrono::steady_clock::now();
   const calib::ImuNoiseResult r = calib::estimateImuNoise(rec, o);
   const double seconds = secondsSince(t0);
-  makeDir(a.out);
+  const calib::CalibrationVerdict verdict = calib::judgeImuNoise(r, vo);
+  const std::string report =
+      calib::formatImuNoiseReport(r, a.imu, seconds, calib::formatVerdict(verdict, "imu.yaml"));
   const fs::path out(a.out);
+  if (verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << report;
+    failCalibration(verdict, (out / "imu.yaml").string());
+  }
+  makeDir(a.out);
   calib::ImuNoiseFigures f = r.figures;
   if (a.rate_hz > 0) f.update_rate_hz = a.rate_hz;
-  data::writeTextFileAtomically((out / "imu.yaml").string(), calib::formatImuYaml(f));
-  const std::string report = calib::formatImuNoiseReport(r, a.imu, seconds);
+  data::writeTextFileAtomically((out / "imu.yaml").string(),
+                                calib::verdictYamlComment(verdict) + calib::formatImuYaml(f));
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   writePng((out / "allan.png").string(), calib::renderAllanPlot(r));
   std::cout << report << "Wrote " << (out / "imu.yaml").string() << ", report.txt, allan.png\n";
+  if (verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on these figures\n";
 }
 
 
@@ -356,6 +410,10 @@ struct CameraImuArgs {
   int every = 1;
   int threads = 2;
   bool verbose = false;
+  std::string options;
+  double max_translation = 0, max_accel_bias = 0, max_gyro_bias = 0;
+  const CLI::App* cli = nullptr;  // which flags were given (they override --options)
+  bool given(const char* flag) const { return cli && cli->count(flag) > 0; }
 };
 
 void runCameraImu(const CameraImuArgs& a) {
@@ -369,6 +427,20 @@ void runCameraImu(const CameraImuArgs& a) {
   if (!(a.knot_rate >= 1 && a.knot_rate <= 200))
     throw data::InputError(kCli, 0, "--knot-rate", "must be 1..200 Hz");
   if (a.every < 1) throw data::InputError(kCli, 0, "--every", "must be >= 1");
+
+  calib::CameraImuOptions o;
+  calib::CameraImuVerdictOptions vo;
+  if (!a.options.empty()) {
+    auto r = data::YamlOptionsReader::fromFile(a.options);
+    calib::readCameraImuOptions(r, o);
+    auto v = r.child("verdict");
+    calib::readCameraImuVerdictOptions(v, vo);
+    v.finish();
+    r.finish();
+  }
+  // Every input file is read before the detections and the solve: a typo is an error at once.
+  Eigen::Isometry3d reference_T_I_C = Eigen::Isometry3d::Identity();
+  if (!a.reference.empty()) reference_T_I_C = calib::readEurocCameraToImu(a.reference);
 
   // Intrinsics and IMU noise.
   calib::CameraImuSensors sensors;
@@ -408,16 +480,25 @@ void runCameraImu(const CameraImuArgs& a) {
   const calib::ImuRecording imu = calib::readImuCsv(a.imu);
   const double read_seconds = secondsSince(t0);
 
-  calib::CameraImuOptions o;
-  o.estimate_time_offset = a.time_offset == "on";
-  o.knot_rate_hz = a.knot_rate;
-  o.frame_step = a.every;
+  if (a.given("--estimate-time-offset")) o.estimate_time_offset = a.time_offset == "on";
+  if (a.given("--knot-rate")) o.knot_rate_hz = a.knot_rate;
+  if (a.given("--every")) o.frame_step = a.every;
   o.threads = a.threads;
   o.verbose = a.verbose;
   o.gravity = sensors.gravity;
+  auto bound = [&](const char* flag, double value, double& field) {
+    if (!a.given(flag)) return;
+    if (!(value > 0)) throw data::InputError(kCli, 0, flag, "must be positive");
+    field = value;
+  };
+  bound("--max-translation", a.max_translation, vo.max_translation_m);
+  bound("--max-accel-bias", a.max_accel_bias, vo.max_accel_bias);
+  bound("--max-gyro-bias", a.max_gyro_bias, vo.max_gyro_bias);
   const calib::CameraImuResult r = calib::calibrateCameraImu(
       views, sensors.camera, imu, sensors.imu, o,
       {a.corners.empty() ? a.images : a.corners, a.imu, intrinsics_input});
+  calib::CalibrationVerdict verdict = calib::judgeCameraImu(r, o, vo);
+  calib::judgeCameraImuInputs(verdict, intrinsics_input, a.imu_yaml);
 
   calib::CameraImuReportContext ctx;
   ctx.corners_input = a.corners.empty() ? a.images : a.corners;
@@ -426,20 +507,25 @@ void runCameraImu(const CameraImuArgs& a) {
   if (!a.reference.empty()) {
     ctx.has_reference = true;
     ctx.reference_name = a.reference;
-    ctx.reference_T_I_C = calib::readEurocCameraToImu(a.reference);
+    ctx.reference_T_I_C = reference_T_I_C;
+  }
+  const fs::path out(a.out);
+  std::string report = calib::formatCameraImuReport(r, o, verdict, ctx);
+  report += strprintf("\nTotal time (reading %.2f s + calibration %.2f s): %.2f s\n", read_seconds,
+                      r.seconds, secondsSince(t0));
+  if (verdict.verdict == calib::Verdict::kFailed) {
+    std::cout << report;
+    failCalibration(verdict, (out / "camchain-imucam.yaml").string());
   }
   makeDir(a.out);
-  const fs::path out(a.out);
   data::writeTextFileAtomically((out / "camchain-imucam.yaml").string(),
-                                calib::formatCamchainImuCamYaml(sensors.camera, r));
+                                calib::verdictYamlComment(verdict) +
+                                    calib::formatCamchainImuCamYaml(sensors.camera, r));
   // formatImuYaml's header says the figures come from Allan deviation; here they are an input.
   std::string imu_yaml = calib::formatImuYaml(sensors.imu);
   imu_yaml = "# IMU noise figures used by adugs calib camera-imu (from " + sensors_source +
              "); continuous-time densities.\n" + imu_yaml.substr(imu_yaml.find('\n') + 1);
   data::writeTextFileAtomically((out / "imu.yaml").string(), imu_yaml);
-  std::string report = calib::formatCameraImuReport(r, o, ctx);
-  report += strprintf("\nTotal time (reading %.2f s + calibration %.2f s): %.2f s\n", read_seconds,
-                      r.seconds, secondsSince(t0));
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   const double rate = sensors.imu.update_rate_hz;
   writePng((out / "gyro_residuals.png").string(),
@@ -453,6 +539,8 @@ void runCameraImu(const CameraImuArgs& a) {
   std::cout << report << "Wrote " << (out / "camchain-imucam.yaml").string()
             << ", imu.yaml, report.txt, gyro_residuals.png, accel_residuals.png, "
                "reprojection_histogram.png\n";
+  if (verdict.verdict == calib::Verdict::kWeak)
+    std::cout << "WARNING: verdict WEAK (see above): record again before relying on this calibration\n";
 }
 
 }  // namespace
@@ -460,6 +548,10 @@ void runCameraImu(const CameraImuArgs& a) {
 void registerCalibCommand(CLI::App& root) {
   CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, camera-IMU, IMU noise");
   calib->require_subcommand(1);
+  calib->footer(
+      "Every calibration result carries a verdict: ok; weak (written, with a WARNING and what to "
+      "record next); failed (nothing written). Exit codes: 0 written (ok or weak), 2 input error, "
+      "3 verdict failed. How to record and how to read the verdicts: doc/calibration.md.");
 
   auto t = std::make_shared<TargetArgs>();
   CLI::App* target = calib->add_subcommand("target", "Render a printable AprilGrid (PNG + vector PDF + YAML)");
@@ -505,6 +597,7 @@ void registerCalibCommand(CLI::App& root) {
   imu->add_option("--out", im->out, "Output folder")->capture_default_str();
   imu->add_option("--rate", im->rate_hz, "Rate written to imu.yaml [Hz] (default: from timestamps)");
   imu->add_option("--points", im->points, "Cluster times on the log-spaced axis")->capture_default_str();
+  imu->add_option("--options", im->options, "Options YAML (verdict: ...)");
   imu->callback([im] { runImu(*im); });
 
   auto ci = std::make_shared<CameraImuArgs>();
@@ -523,6 +616,11 @@ void registerCalibCommand(CLI::App& root) {
   cimu->add_option("--every", ci->every, "Use one frame in N")->capture_default_str();
   cimu->add_option("--threads", ci->threads, "Threads")->capture_default_str();
   cimu->add_flag("--verbose", ci->verbose, "Print the solver progress");
+  cimu->add_option("--options", ci->options, "Options YAML (calibration keys + verdict: ...; flags override it)");
+  cimu->add_option("--max-translation", ci->max_translation, "Verdict: camera-IMU distance above which the result fails [m] (default 0.5)");
+  cimu->add_option("--max-accel-bias", ci->max_accel_bias, "Verdict: accelerometer bias above which the result fails [m/s^2] (default 1)");
+  cimu->add_option("--max-gyro-bias", ci->max_gyro_bias, "Verdict: gyro bias above which the result fails [rad/s] (default 0.5)");
+  ci->cli = cimu;
   cimu->callback([ci] { runCameraImu(*ci); });
 }
 

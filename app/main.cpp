@@ -5,9 +5,12 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "calib/calibration_verdict.h"
+#include "calib/solver_outcome.h"
 #include "data/input_error.h"
 
 int main(int argc, char** argv) {
+  adugs::calib::silenceSolverLogging();
   CLI::App root{"ADUGS-VINS: visual-inertial odometry robust to dynamic objects"};
   root.require_subcommand(1);
   root.set_version_flag("--version", "adugs 0.1");
@@ -29,6 +32,9 @@ int main(int argc, char** argv) {
   } catch (const adugs::data::InputError& e) {
     std::cerr << "adugs: error: " << e.what() << "\n";
     return 2;
+  } catch (const adugs::calib::CalibrationFailed& e) {
+    std::cerr << "adugs: calibration failed: " << e.what() << "\n";
+    return adugs::calib::kExitCalibrationFailed;
   } catch (const std::exception& e) {
     std::cerr << "adugs: error: " << e.what() << "\n";
     return 1;

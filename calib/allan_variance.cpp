@@ -149,11 +149,12 @@ ImuNoiseResult estimateImuNoise(const ImuRecording& rec, const AllanOptions& opt
 }
 
 std::string formatImuNoiseReport(const ImuNoiseResult& r, const std::string& input,
-                                 double seconds) {
+                                 double seconds, const std::string& verdict_block) {
   std::string s = "adugs calib imu\n";
   s += "  input     " + input + "\n";
   s += strprintf("  samples   %zu over %.1f s (%.1f Hz); analysis %.2f s\n\n", r.samples,
                  r.duration_s, r.figures.update_rate_hz, seconds);
+  if (!verdict_block.empty()) s += verdict_block + "\n";
   auto sensor = [&](const char* name, const SensorNoise& n, const char* wu, const char* ku) {
     s += strprintf("%s                 white noise N [%s]   bias instability B   random walk K [%s]\n",
                    name, wu, ku);
@@ -167,10 +168,6 @@ std::string formatImuNoiseReport(const ImuNoiseResult& r, const std::string& inp
   sensor("gyroscope", r.gyro, "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)");
   sensor("accelerometer", r.accel, "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)");
   s += "Kalibr wants these continuous-time figures; inflate them (x2..x10) for a moving rig.\n";
-  if (r.duration_s < 3600)
-    s += strprintf("Note: %.0f s is short; the random walk needs hours of static data to be "
-                   "reliable.\n",
-                   r.duration_s);
   return s;
 }
 

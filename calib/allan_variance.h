@@ -70,7 +70,9 @@ struct ImuNoiseResult {
 // Throws data::InputError when the recording is too short (< 1000 samples).
 ImuNoiseResult estimateImuNoise(const ImuRecording& rec, const AllanOptions& options = {});
 
-std::string formatImuNoiseReport(const ImuNoiseResult& r, const std::string& input, double seconds);
+// verdict_block: the verdict as text (formatVerdict), printed after the inputs.
+std::string formatImuNoiseReport(const ImuNoiseResult& r, const std::string& input, double seconds,
+                                 const std::string& verdict_block = "");
 // Log-log plot of both sensors' Allan deviations per axis with the fitted lines.
 cv::Mat renderAllanPlot(const ImuNoiseResult& r);
 

@@ -7,12 +7,15 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "calib/camera_imu_costs.h"
 #include "calib/camera_imu_init.h"
+#include "calib/solver_outcome.h"
 #include "calib/text_format.h"
 #include "data/input_error.h"
+#include "data/yaml_options.h"
 
 namespace adugs::calib {
 namespace {
@@ -99,9 +102,11 @@ void addSplineBlocks(State& s, int seg, std::vector<double*>& blocks, bool with_
 // The problem is rebuilt on every call: frame segments follow the time shift, weights change.
 enum class Stage { kSpline, kFull };
 
+// covariance: after the solve, the 1-sigma of T_C_I and the shift into res (the final solve).
 void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& imu,
            const std::vector<size_t>& imu_used, Stage stage, const PinholeCamera& camera,
-           const ImuNoiseFigures& noise, const CameraImuOptions& o, int& iterations) {
+           const ImuNoiseFigures& noise, const CameraImuOptions& o, CameraImuResult& res,
+           bool covariance = false) {
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
@@ -170,7 +175,7 @@ void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& i
   }
   problem.SetManifold(s.gravity_dir.data(), &sphere);
 
-  ceres::Solver::Options so;
+  ceres::Solver::Options so = quietSolverOptions();
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.max_num_iterations = o.max_iterations;
   so.num_threads = o.threads;
@@ -178,8 +183,46 @@ void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& i
   so.function_tolerance = 1e-9;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  iterations += static_cast<int>(summary.iterations.size());
+  res.iterations += static_cast<int>(summary.iterations.size());
+  const SolverOutcome outcome = describeSolve(summary);
+  res.final_solve_usable = outcome.usable;
+  res.final_solve_converged = outcome.converged;
+  if (!outcome.usable) {
+    res.solver_failures.push_back((stage == Stage::kSpline ? "trajectory solve: " : "full solve: ") +
+                                  outcome.problem);
+  }
   if (o.verbose) std::cerr << summary.BriefReport() << "\n";
+  if (!covariance || !outcome.usable) return;
+
+  // Marginal covariance of the extrinsics and the shift in the whole problem (spline, biases and
+  // gravity marginalised), from the residuals' own noise model (corners pixel_sigma, IMU white
+  // noise): no rescaling by the residual variance, whose types differ.
+  const auto t0 = std::chrono::steady_clock::now();
+  ceres::Covariance::Options co;
+  co.num_threads = o.threads;
+  co.apply_loss_function = true;
+  ceres::Covariance cov(co);
+  std::vector<std::pair<const double*, const double*>> blocks = {
+      {s.q_C_I.data(), s.q_C_I.data()}, {s.p_C_I.data(), s.p_C_I.data()}};
+  const bool with_shift = o.estimate_time_offset;
+  if (with_shift) blocks.push_back({&s.shift, &s.shift});
+  if (cov.Compute(blocks, &problem)) {
+    Eigen::Matrix3d Cq, Cp;
+    double Cs = 0;
+    cov.GetCovarianceBlockInTangentSpace(s.q_C_I.data(), s.q_C_I.data(), Cq.data());
+    cov.GetCovarianceBlock(s.p_C_I.data(), s.p_C_I.data(), Cp.data());
+    if (with_shift) cov.GetCovarianceBlock(&s.shift, &s.shift, &Cs);
+    // Ceres's quaternion tangent is half the rotation angle.
+    res.sigma_rotation = 2 * Cq.diagonal().cwiseMax(0).cwiseSqrt();
+    // Camera position in the IMU frame, p_I_C = -R_C_I^T p_C_I (the lever arm's rotation part is
+    // negligible next to Cp at these sizes).
+    const Eigen::Matrix3d R = fromQuat(s.q_C_I).normalized().toRotationMatrix();
+    res.sigma_translation = (R.transpose() * Cp * R).diagonal().cwiseMax(0).cwiseSqrt();
+    res.sigma_time_shift_s = std::sqrt(std::max(0.0, Cs));
+    res.has_sigma = res.sigma_rotation.allFinite() && res.sigma_translation.allFinite();
+  }
+  res.covariance_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Gravity direction in the target frame: g = a_T - R_T_I f, averaged over the IMU samples.
@@ -201,21 +244,25 @@ void initGravity(State& s, const std::vector<RateSample>& gyro, const ImuRecordi
   s.gravity_dir = {g.x(), g.y(), g.z()};
 }
 
-// Per-corner errors of all frames at the current state (pixels, unweighted).
+// Per-corner errors of all frames at the current state (pixels, unweighted); NaN for a corner
+// behind the camera (it has no reprojection error).
 std::vector<std::vector<double>> cornerErrors(const State& s, const std::vector<FrameData>& frames,
                                               const PinholeCamera& camera) {
   std::vector<std::vector<double>> errors;
+  std::vector<bool> behind;
   for (const FrameData& f : frames) {
     const Segment sg = segmentOf(s, f.t_cam + s.shift);
     FrameReprojection fr{f.t_cam - (s.t0 + sg.index * s.dt), 1.0 / s.dt, &camera, f.corners, 1.0};
     for (auto& c : fr.corners) c.weight = 1;
     std::vector<double> r(2 * fr.corners.size());
     const int i = sg.index;
-    fr(s.q[i].data(), s.q[i + 1].data(), s.q[i + 2].data(), s.q[i + 3].data(), s.p[i].data(),
-       s.p[i + 1].data(), s.p[i + 2].data(), s.p[i + 3].data(), s.q_C_I.data(), s.p_C_I.data(),
-       &s.shift, r.data());
+    fr.project(s.q[i].data(), s.q[i + 1].data(), s.q[i + 2].data(), s.q[i + 3].data(),
+               s.p[i].data(), s.p[i + 1].data(), s.p[i + 2].data(), s.p[i + 3].data(),
+               s.q_C_I.data(), s.p_C_I.data(), &s.shift, r.data(), &behind);
     std::vector<double> e(fr.corners.size());
-    for (size_t k = 0; k < e.size(); ++k) e[k] = std::hypot(r[2 * k], r[2 * k + 1]);
+    for (size_t k = 0; k < e.size(); ++k)
+      e[k] = behind[k] ? std::numeric_limits<double>::quiet_NaN()
+                       : std::hypot(r[2 * k], r[2 * k + 1]);
     errors.push_back(std::move(e));
   }
   return errors;
@@ -228,6 +275,22 @@ double rms(const std::vector<TimedVector>& v) {
 }
 
 }  // namespace
+
+void readCameraImuOptions(data::YamlOptionsReader& r, CameraImuOptions& o) {
+  r.optional("knot_rate_hz", o.knot_rate_hz, 1.0, 200.0);
+  r.optional("estimate_time_offset", o.estimate_time_offset);
+  r.optional("max_time_offset_s", o.max_time_offset_s, 0.0, 10.0);
+  r.optional("bias_knot_interval_s", o.bias_knot_interval_s, 0.0, 1e6);
+  r.optional("frame_step", o.frame_step, 1, 1000000);
+  r.optional("min_corners", o.min_corners, 4, 100000);
+  r.optional("min_frames", o.min_frames, 2, 1000000);
+  r.optional("pixel_sigma", o.pixel_sigma, 1e-3, 1e3);
+  r.optional("huber_px", o.huber_px, 1e-3, 1e3);
+  r.optional("robust_rounds", o.robust_rounds, 1, 100);
+  r.optional("max_iterations", o.max_iterations, 1, 100000);
+  r.optional("min_rotation_rate", o.min_rotation_rate, 0.0, 100.0);
+  r.optional("compute_covariance", o.compute_covariance);
+}
 
 CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
                                    const PinholeCamera& camera, const ImuRecording& imu,
@@ -272,14 +335,16 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
     }
     usable.push_back(views[v]);
   }
-  if (with_target > 0 && outside > with_target / 10)
+  // No frame inside the IMU's span: files of different recordings or clocks (input error). Some
+  // outside: calibrated on the covered frames; the verdict says how many were dropped.
+  res.frames_with_target = with_target;
+  res.frames_outside_imu = outside;
+  if (with_target > 0 && outside == with_target)
     throw InputError(src.imu, 0, "timestamps",
-                     strprintf("the IMU does not cover the images: %d of %d frames with the "
+                     strprintf("the IMU does not cover the images: all %d frames with the "
                                "target lie outside the IMU time span [%lld, %lld] ns",
-                               outside, with_target, static_cast<long long>(origin),
+                               with_target, static_cast<long long>(origin),
                                static_cast<long long>(imu.t_ns.back())));
-  if (outside > 0)
-    res.warnings.push_back(strprintf("%d frames outside the IMU time span were dropped", outside));
 
   const std::vector<BoardPose> poses = estimateBoardPoses(usable, camera, origin, o.min_corners);
   if (static_cast<int>(poses.size()) < o.min_frames)
@@ -302,16 +367,13 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
       if (g.t >= poses.front().t && g.t <= poses.back().t) span.push_back(g);
     res.excitation = rotationExcitation(span);
   }
-  if (res.excitation(0) < o.min_rotation_rate)
-    throw InputError(src.imu, 0, "gyro",
-                     strprintf("degenerate motion: RMS rotation rate %.3f rad/s < %.3f; rotate "
-                               "the rig about all three axes while recording",
-                               res.excitation(0), o.min_rotation_rate));
-  if (res.excitation(2) < o.weak_axis_rate)
-    res.warnings.push_back(strprintf(
-        "weak rotation excitation: RMS rate about the least excited axis is %.3f rad/s (< %.3f); "
-        "the rotation and time offset may be poorly determined",
-        res.excitation(2), o.weak_axis_rate));
+  res.duration_s = poses.back().t - poses.front().t;
+  // Without rotation there is nothing to align the gyro with: not solved (the verdict fails it).
+  if (res.excitation(0) < o.min_rotation_rate) {
+    res.solved = false;
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return res;
+  }
 
   // Initial guess: time offset by correlation, then R_C_I by Kabsch.
   std::vector<double> gaps;
@@ -360,6 +422,7 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
     frames.push_back(std::move(f));
   }
   res.frames_used = static_cast<int>(frames.size());
+  for (const FrameData& f : frames) res.corners_in_frames += static_cast<int>(f.corners.size());
 
   // IMU samples on the spline.
   std::vector<size_t> imu_used;
@@ -368,7 +431,7 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
   res.imu_samples_used = static_cast<int>(imu_used.size());
 
   initGravity(s, gyro, imu, imu_used);
-  solve(s, frames, imu, imu_used, Stage::kSpline, camera, noise, o, res.iterations);
+  solve(s, frames, imu, imu_used, Stage::kSpline, camera, noise, o, res);
 
   // Robust rounds: solve, then Huber IRLS weights w = min(1, sqrt(k / e)) on each corner.
   for (int round = 0; round < std::max(1, o.robust_rounds); ++round) {
@@ -376,11 +439,14 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
       const auto errors = cornerErrors(s, frames, camera);
       for (size_t f = 0; f < frames.size(); ++f)
         for (size_t k = 0; k < frames[f].corners.size(); ++k) {
-          const double e = errors[f][k];
+          const double e = errors[f][k];  // NaN (behind the camera) cannot happen here: the
+                                          // solver rejects steps that put a corner there
           frames[f].corners[k].weight = e > o.huber_px ? std::sqrt(o.huber_px / e) : 1.0;
         }
     }
-    solve(s, frames, imu, imu_used, Stage::kFull, camera, noise, o, res.iterations);
+    const bool last = round + 1 == std::max(1, o.robust_rounds);
+    solve(s, frames, imu, imu_used, Stage::kFull, camera, noise, o, res,
+          last && o.compute_covariance);
   }
 
   // Results and residuals.
@@ -395,15 +461,23 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
     res.accel_bias += a / static_cast<double>(s.accel_bias.size());
     res.bias_knots.push_back({s.t0 + k * s.bias_dt, g, a});
   }
+  // Reprojection statistics over the corners that project (a corner behind the camera has no
+  // error to average; it is counted instead).
   double sq = 0;
   for (const auto& frame_errors : cornerErrors(s, frames, camera))
     for (double e : frame_errors) {
+      if (!std::isfinite(e)) {
+        ++res.corners_behind_camera;
+        continue;
+      }
       res.corner_errors_px.push_back(e);
       sq += e * e;
       res.corners_downweighted += e > o.huber_px;
     }
   res.corners_used = static_cast<int>(res.corner_errors_px.size());
-  res.reprojection_rms_px = std::sqrt(sq / std::max(1, res.corners_used));
+  res.reprojection_rms_px = res.corners_used > 0
+                                ? std::sqrt(sq / res.corners_used)
+                                : std::numeric_limits<double>::quiet_NaN();
   for (size_t k : imu_used) {
     const Segment sg = segmentOf(s, gyro[k].t);
     const BiasLocation bl = biasAt(s, gyro[k].t);
@@ -421,9 +495,6 @@ CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
   }
   res.gyro_rms = rms(res.gyro_residuals);
   res.accel_rms = rms(res.accel_residuals);
-  if (std::abs(res.time_shift_s) > o.max_time_offset_s)
-    res.warnings.push_back(strprintf("time shift %.4f s is outside the search range +-%.3f s",
-                                     res.time_shift_s, o.max_time_offset_s));
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
 }

@@ -17,6 +17,10 @@
 #include "calib/kalibr_yaml.h"
 #include "calib/target_observation.h"
 
+namespace adugs::data {
+class YamlOptionsReader;
+}
+
 namespace adugs::calib {
 
 struct CameraImuOptions {
@@ -33,10 +37,15 @@ struct CameraImuOptions {
   int robust_rounds = 2;     // solves; each after the first re-weights the corners
   int max_iterations = 40;   // per solve
   int threads = 2;
-  double min_rotation_rate = 0.1;  // rad/s RMS: below, no rotation excitation -> error
-  double weak_axis_rate = 0.05;    // rad/s RMS on the weakest axis: below -> warning
+  double min_rotation_rate = 0.1;  // rad/s RMS: below, no rotation to align: not solved
+  bool compute_covariance = true;  // 1-sigma of T_C_I and the time shift
   bool verbose = false;
 };
+
+// Reads the keys above (knot_rate_hz, estimate_time_offset, max_time_offset_s, gravity is not
+// one: it comes with the IMU figures; threads and verbose are command-line flags). Unknown keys
+// are InputError; the caller calls finish().
+void readCameraImuOptions(data::YamlOptionsReader& r, CameraImuOptions& o);
 
 // Where the inputs came from, for the error messages.
 struct CameraImuSources {
@@ -74,11 +83,25 @@ struct CameraImuResult {
   double reprojection_rms_px = 0, gyro_rms = 0, accel_rms = 0;
   int corners_downweighted = 0;
 
+  // corners_used: corners of the used frames that project into the camera at the solution (the
+  // reprojection statistics are over these); corners_behind_camera: the others.
+  bool solved = true;  // false: no rotation to align (excitation(0) < min_rotation_rate)
+  int frames_with_target = 0, frames_outside_imu = 0;  // frames outside the IMU span: dropped
+  double duration_s = 0;  // span of the frames with a board pose
+  // 1-sigma from the covariance of the final problem (scaled by the residual variance):
+  // rotation of T_C_I [rad] about its axes, camera position in the IMU frame [m], time shift [s].
+  bool has_sigma = false;
+  Eigen::Vector3d sigma_rotation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sigma_translation = Eigen::Vector3d::Zero();
+  double sigma_time_shift_s = 0;
+  double covariance_seconds = 0;
   int views_given = 0, frames_used = 0, corners_used = 0, imu_samples_used = 0;
+  int corners_behind_camera = 0, corners_in_frames = 0;
+  std::vector<std::string> solver_failures;  // solves that failed, in the tool's words
+  bool final_solve_usable = true, final_solve_converged = true;
   int control_points = 0, iterations = 0;
   double pnp_rms_px = 0;
   Eigen::Vector3d excitation = Eigen::Vector3d::Zero();  // RMS rate per principal axis [rad/s]
-  std::vector<std::string> warnings;
   double seconds = 0;
 };
 

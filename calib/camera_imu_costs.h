@@ -77,6 +77,10 @@ struct AccelResidual {
 
 // All corners of one frame: project p_T through T_C_I * T_T_I(t_cam + shift)^-1. The residual
 // of corner k is (projected - measured) * weight_k / sigma_px (weights: robust IRLS weights).
+// A corner behind the camera has no residual: the evaluation fails (Ceres then rejects the step
+// that put it there). Giving it a zero residual instead made "the board behind the camera" a
+// perfect fit: on a 3 s EuRoC segment the solver moved the camera 11 m to get there and the
+// report said "RMS 0.000 px".
 struct FrameReprojection {
   struct Corner {
     Eigen::Vector3d point_T;
@@ -93,6 +97,15 @@ struct FrameReprojection {
   bool operator()(const T* q0, const T* q1, const T* q2, const T* q3, const T* p0, const T* p1,
                   const T* p2, const T* p3, const T* q_C_I, const T* p_C_I, const T* shift,
                   T* r) const {
+    return project(q0, q1, q2, q3, p0, p1, p2, p3, q_C_I, p_C_I, shift, r, nullptr) == 0;
+  }
+
+  // Fills r for every corner (0 for a corner behind the camera, flagged in behind[k] when
+  // given) and returns how many corners lie behind the camera.
+  template <typename T>
+  int project(const T* q0, const T* q1, const T* q2, const T* q3, const T* p0, const T* p1,
+              const T* p2, const T* p3, const T* q_C_I, const T* p_C_I, const T* shift, T* r,
+              std::vector<bool>* behind) const {
     const T* q[4] = {q0, q1, q2, q3};
     const T* p[4] = {p0, p1, p2, p3};
     const T u = (T(t_cam_in_segment) + shift[0]) * T(inv_dt);
@@ -102,6 +115,8 @@ struct FrameReprojection {
     const T q_I_T[4] = {q_T_I[0], -q_T_I[1], -q_T_I[2], -q_T_I[3]};
     T params[8];
     for (int i = 0; i < 8; ++i) params[i] = T(camera->params[i]);
+    if (behind) behind->assign(corners.size(), false);
+    int behind_count = 0;
     for (size_t k = 0; k < corners.size(); ++k) {
       const Corner& c = corners[k];
       const T d[3] = {T(c.point_T.x()) - p_T_I[0], T(c.point_T.y()) - p_T_I[1],
@@ -112,13 +127,15 @@ struct FrameReprojection {
       for (int i = 0; i < 3; ++i) p_C[i] += p_C_I[i];
       const T w = T(c.weight * inv_sigma_px);
       if (!data::projectPoint(camera->model, params, p_C, uv)) {
-        r[2 * k] = r[2 * k + 1] = T(0);  // behind the camera: cannot happen near a solution
+        r[2 * k] = r[2 * k + 1] = T(0);
+        ++behind_count;
+        if (behind) (*behind)[k] = true;
         continue;
       }
       r[2 * k] = (uv[0] - T(c.pixel.x())) * w;
       r[2 * k + 1] = (uv[1] - T(c.pixel.y())) * w;
     }
-    return true;
+    return behind_count;
   }
 };
 

@@ -63,6 +63,7 @@ void compareTransforms(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, d
 }
 
 std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptions& o,
+                                  const CalibrationVerdict& verdict,
                                   const CameraImuReportContext& ctx) {
   std::string s = "Camera-IMU calibration (adugs calib camera-imu)\n\n";
   s += "Inputs\n";
@@ -72,13 +73,20 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
   s += strprintf(
       "  frames: %d used of %d views (>= %d corners, every %d), %d corners, "
       "PnP RMS %.3f px\n",
-      r.frames_used, r.views_given, o.min_corners, o.frame_step, r.corners_used, r.pnp_rms_px);
+      r.frames_used, r.views_given, o.min_corners, o.frame_step, r.corners_in_frames, r.pnp_rms_px);
   s += strprintf(
       "  IMU samples: %d; rotation excitation (RMS rate per principal axis): "
       "%.3f %.3f %.3f rad/s\n",
       r.imu_samples_used, r.excitation(0), r.excitation(1), r.excitation(2));
+  s += strprintf("  frames with the board span %.1f s", r.duration_s);
+  if (r.frames_outside_imu > 0)
+    s += strprintf("; %d of %d frames with the target lie outside the IMU's time span (dropped)",
+                   r.frames_outside_imu, r.frames_with_target);
+  s += "\n";
   s += strprintf("  spline: %d control points at %.4g Hz; %d solver iterations; %.2f s\n\n",
                  r.control_points, o.knot_rate_hz, r.iterations, r.seconds);
+  s += formatVerdict(verdict, "camchain-imucam.yaml") + "\n";
+  if (!r.solved) return s + "Not solved: there is no rotation to align the camera with the gyro.\n";
 
   s += "Result\n";
   s +=
@@ -90,8 +98,16 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
                  r.gravity_T(1), r.gravity_T(2));
   s += strprintf("gyro bias:  [% .6f, % .6f, % .6f] rad/s\n", r.gyro_bias(0), r.gyro_bias(1),
                  r.gyro_bias(2));
-  s += strprintf("accel bias: [% .5f, % .5f, % .5f] m/s^2\n\n", r.accel_bias(0), r.accel_bias(1),
+  s += strprintf("accel bias: [% .5f, % .5f, % .5f] m/s^2\n", r.accel_bias(0), r.accel_bias(1),
                  r.accel_bias(2));
+  if (r.has_sigma)
+    s += strprintf("1-sigma (covariance of the final problem, %.1f s): rotation [%.3f, %.3f, %.3f] "
+                   "deg, camera position in the IMU frame [%.2f, %.2f, %.2f] mm, time shift %.3f ms\n",
+                   r.covariance_seconds, r.sigma_rotation(0) * 180 / M_PI,
+                   r.sigma_rotation(1) * 180 / M_PI, r.sigma_rotation(2) * 180 / M_PI,
+                   r.sigma_translation(0) * 1000, r.sigma_translation(1) * 1000,
+                   r.sigma_translation(2) * 1000, r.sigma_time_shift_s * 1000);
+  s += "\n";
 
   s += "Initial guess\n";
   Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
@@ -105,11 +121,14 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
 
   s += "Residuals\n";
   s += strprintf(
-      "  reprojection: RMS %.3f px, median %.3f, 90%% %.3f, 99%% %.3f, max %.3f px; "
-      "%d corners above the Huber threshold %.2f px\n",
-      r.reprojection_rms_px, percentile(r.corner_errors_px, 0.5),
+      "  reprojection over the %d corners that project: RMS %.3f px, median %.3f, 90%% %.3f, "
+      "99%% %.3f, max %.3f px; %d corners above the Huber threshold %.2f px\n",
+      r.corners_used, r.reprojection_rms_px, percentile(r.corner_errors_px, 0.5),
       percentile(r.corner_errors_px, 0.9), percentile(r.corner_errors_px, 0.99),
       percentile(r.corner_errors_px, 1.0), r.corners_downweighted, o.huber_px);
+  if (r.corners_behind_camera > 0)
+    s += strprintf("  %d corners lie BEHIND the camera at this solution (no reprojection error)\n",
+                   r.corners_behind_camera);
   const Eigen::Vector3d g = axisRms(r.gyro_residuals), ac = axisRms(r.accel_residuals);
   s +=
       strprintf("  gyro:  RMS %.5f rad/s (x %.5f, y %.5f, z %.5f)\n", r.gyro_rms, g(0), g(1), g(2));
@@ -125,10 +144,6 @@ std::string formatCameraImuReport(const CameraImuResult& r, const CameraImuOptio
     s += strprintf("  rotation difference:    %.4f deg\n", a);
     s += strprintf("  translation difference: %.2f mm (camera position in the IMU frame)\n",
                    dp * 1000);
-  }
-  if (!r.warnings.empty()) {
-    s += "\nWarnings\n";
-    for (const auto& w : r.warnings) s += "  - " + w + "\n";
   }
   return s;
 }

@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "calib/calibration_verdict.h"
 #include "calib/camera_imu_calibrator.h"
 
 namespace adugs::calib {
@@ -25,7 +26,9 @@ struct CameraImuReportContext {
 void compareTransforms(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double& angle_deg,
                        double& distance_m);
 
+// The report, with the verdict's block after the inputs.
 std::string formatCameraImuReport(const CameraImuResult& result, const CameraImuOptions& options,
+                                  const CalibrationVerdict& verdict,
                                   const CameraImuReportContext& context);
 
 // Residuals (x, y, z) over time, one panel per axis, with the +-3 sigma lines.

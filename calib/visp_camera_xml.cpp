@@ -36,7 +36,7 @@ double fitKdu(const PinholeCamera& c) {
 }  // namespace
 
 void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
-                        const std::string& camera_name) {
+                        const std::string& camera_name, const std::string& note) {
   namespace fs = std::filesystem;
   const std::string tmp = path + ".visp.tmp";
   std::error_code ec;
@@ -73,6 +73,12 @@ void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
                  ? "Radial-only: kud = k1 is exact, kdu is a least-squares inverse."
                  : "ViSP cannot express this distortion: the model below is exact for images "
                    "undistorted with the Kalibr model (see camchain.yaml).";
+  if (!note.empty()) {
+    // "--" may not appear inside an XML comment.
+    std::string safe = note;
+    for (size_t at = safe.find("--"); at != std::string::npos; at = safe.find("--", at)) safe.replace(at, 2, "- ");
+    comment += "\n" + safe;
+  }
   comment += " -->\n";
   const size_t decl = xml.find("?>");
   const size_t at = decl == std::string::npos ? 0 : xml.find('\n', decl) + 1;

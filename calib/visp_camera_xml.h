@@ -13,8 +13,9 @@
 
 namespace adugs::calib {
 
-// Throws data::InputError if the file cannot be written.
+// note: extra text for the XML comment (e.g. the calibration's verdict). Throws
+// data::InputError if the file cannot be written.
 void writeVispCameraXml(const std::string& path, const PinholeCamera& camera,
-                        const std::string& camera_name = "Camera");
+                        const std::string& camera_name = "Camera", const std::string& note = "");
 
 }  // namespace adugs::calib

@@ -38,11 +38,16 @@ inline AprilGrid eurocGrid() {
   return g;
 }
 
+// How the rig moves: everything (the calibration motion), planar (a ground robot: yaw only, the
+// height fixed), or held still (one pose).
+enum class RigMotion { kFull, kPlanar, kStill };
+
 // duration_s of motion; camera at 20 Hz, IMU at 200 Hz; times start at start_ns.
 inline CameraImuRecording makeCameraImuRecording(double duration_s, double shift_s,
                                                  double pixel_noise = 0.3, unsigned seed = 3,
                                                  int64_t start_ns = 1'000'000'000'000,
-                                                 bool imu_noise = true) {
+                                                 bool imu_noise = true,
+                                                 RigMotion motion = RigMotion::kFull) {
   CameraImuRecording rec;
   rec.grid = eurocGrid();
   rec.shift_s = shift_s;
@@ -64,11 +69,15 @@ inline CameraImuRecording makeCameraImuRecording(double duration_s, double shift
     return ch;
   };
   const int64_t end_ns = start_ns + static_cast<int64_t>(duration_s * 1e9);
-  const data::SineTrajectory trajectory(
-      start_ns, end_ns,
-      {channel(c, 0.15, 1.3, 0.05, 3.1, 0.2), channel(c, 0.12, 1.7, 0.04, 2.9, 1.1),
-       channel(0.9, 0.15, 1.1, 0.05, 2.3, 0.4), channel(0.0, 0.25, 1.9, 0.08, 7.1, 0.3),
-       channel(0.0, 0.2, 2.3, 0.07, 6.7, 2.0), channel(0.0, 0.2, 2.1, 0.07, 7.9, 1.3)});
+  std::array<SineChannel, 6> channels = {
+      channel(c, 0.15, 1.3, 0.05, 3.1, 0.2), channel(c, 0.12, 1.7, 0.04, 2.9, 1.1),
+      channel(0.9, 0.15, 1.1, 0.05, 2.3, 0.4), channel(0.0, 0.25, 1.9, 0.08, 7.1, 0.3),
+      channel(0.0, 0.2, 2.3, 0.07, 6.7, 2.0), channel(0.0, 0.2, 2.1, 0.07, 7.9, 1.3)};
+  for (int k = 0; k < 6; ++k) {
+    const bool keep = motion == RigMotion::kFull || (motion == RigMotion::kPlanar && k != 2 && k != 4 && k != 5);
+    if (!keep) channels[static_cast<size_t>(k)].terms.clear();
+  }
+  const data::SineTrajectory trajectory(start_ns, end_ns, channels);
 
   data::SimImuOptions io;
   io.gyro_random_walk = 0;  // constant biases: what the calibrator models

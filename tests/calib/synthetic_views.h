@@ -51,6 +51,49 @@ inline std::vector<TargetObservation> syntheticViews(const PinholeCamera& cam, c
   return views;
 }
 
+// A camera held almost still in front of the board (the weak case of issue 18: 30 views of
+// one pose): the board seen nearly face-on (tilt_deg about a fixed axis) at distance_m, its
+// centre offset in the camera frame by (offset_x, offset_y) metres, each view jittered by up to
+// jitter_m and jitter_deg. Corners outside the image are dropped (the board may be cut).
+inline std::vector<TargetObservation> nearStillViews(const PinholeCamera& cam,
+                                                     const AprilGrid& grid, int n_views,
+                                                     double noise_px, unsigned seed,
+                                                     double distance_m, double tilt_deg,
+                                                     double jitter_m, double jitter_deg,
+                                                     double offset_x = 0, double offset_y = 0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  const Eigen::Vector3d centre(grid.tag_cols * grid.pitch() / 2, grid.tag_rows * grid.pitch() / 2, 0);
+  const Eigen::Vector3d tilt_axis = Eigen::Vector3d(1, 0.6, 0).normalized();
+  std::vector<TargetObservation> views;
+  for (int k = 0; k < n_views; ++k) {
+    // Board frame in the camera: z of the board towards the camera (R_C_T flips it), tilted.
+    const Eigen::Vector3d jitter_axis(uni(rng), uni(rng), uni(rng));
+    const Eigen::Matrix3d R_C_T =
+        (Eigen::AngleAxisd(jitter_deg * M_PI / 180 * uni(rng), jitter_axis.normalized()) *
+         Eigen::AngleAxisd(tilt_deg * M_PI / 180, tilt_axis) *
+         Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+    const Eigen::Vector3d t_C_T =
+        Eigen::Vector3d(offset_x, offset_y, distance_m) +
+        jitter_m * Eigen::Vector3d(uni(rng), uni(rng), uni(rng)) - R_C_T * centre;
+    TargetObservation obs;
+    obs.t_ns = static_cast<int64_t>(k) * 50000000;
+    for (int id = 0; id < grid.numTags(); ++id)
+      for (int c = 0; c < 4; ++c) {
+        const Eigen::Vector3d p_T = grid.corner(id, c);
+        Eigen::Vector2d uv;
+        if (!cam.project(R_C_T * p_T + t_C_T, uv)) continue;
+        if (uv.x() < 2 || uv.y() < 2 || uv.x() > cam.width - 3 || uv.y() > cam.height - 3) continue;
+        uv += Eigen::Vector2d(noise(rng), noise(rng));
+        obs.corners.push_back({id, c, uv, p_T});
+      }
+    views.push_back(obs);
+  }
+  return views;
+}
+
 inline PinholeCamera eurocLikeCamera() {
   PinholeCamera c;
   c.width = 752;

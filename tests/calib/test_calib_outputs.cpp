@@ -83,14 +83,23 @@ TEST(CalibrationReport, ReportAndPlotDescribeTheResult) {
   ctx.reference = truth;
   ctx.reference_rms_px = reprojectionRmsWithFixedIntrinsics(views, truth);
   EXPECT_NEAR(ctx.reference_rms_px, 0.2 * std::sqrt(2.0), 0.05);  // the injected noise
-  const std::string report = formatIntrinsicsReport(r, ctx);
+  const IntrinsicsJudgement j = judgeIntrinsics(r, IntrinsicsOptions{});
+  const std::string report = formatIntrinsicsReport(r, j, ctx);
   EXPECT_NE(report.find("Compared with truth"), std::string::npos);
   EXPECT_NE(report.find("pinhole-radtan"), std::string::npos);
   EXPECT_NE(report.find("rms"), std::string::npos);
   EXPECT_NE(report.find("Per view"), std::string::npos);
+  // 6 views < 10: weak, said in the report with what to record next.
+  EXPECT_EQ(j.verdict.verdict, Verdict::kWeak);
+  EXPECT_NE(report.find("WARNING: verdict WEAK"), std::string::npos) << report;
+  EXPECT_NE(report.find("Record next"), std::string::npos) << report;
+  EXPECT_NE(report.find("Coverage"), std::string::npos) << report;
   const cv::Mat plot = renderResidualPlot(r);
   EXPECT_EQ(plot.type(), CV_8UC3);
   EXPECT_GT(cv::countNonZero(plot.reshape(1) < 250), 1000);  // something was drawn
+  const cv::Mat coverage = renderCoveragePlot(r, j);
+  EXPECT_EQ(coverage.type(), CV_8UC3);
+  EXPECT_GT(cv::countNonZero(coverage.reshape(1) < 250), 1000);
 }
 
 }  // namespace

@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "calib/corner_csv.h"
 #include "calib/text_format.h"
@@ -83,6 +85,68 @@ TEST(CameraImuCli, SyntheticRunWritesKalibrFilesReportAndPlots) {
        {"report.txt", "gyro_residuals.png", "accel_residuals.png", "reprojection_histogram.png"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
   EXPECT_NE(out.find("timeshift_cam_imu"), std::string::npos);
+  // 7.5 s of frames (< 8 s): weak, written with the warning on stdout, in the report and at the
+  // top of camchain-imucam.yaml.
+  EXPECT_NE(out.find("WARNING: verdict WEAK"), std::string::npos) << out;
+  EXPECT_NE(out.find("duration: 7.5 s of frames"), std::string::npos) << out;
+  std::string yaml;
+  test::runCommand("cat " + dir + "/camchain-imucam.yaml", &yaml);
+  EXPECT_EQ(yaml.rfind("# verdict: weak\n", 0), 0u) << yaml;
+  EXPECT_EQ(out.find("Terminating"), std::string::npos) << out;
+}
+
+// A rig that never moved: failed, exit code 3, nothing written.
+// Issue 18's camera-IMU case through the command line: the first 60 frames (3 s) of the shared
+// imu_april set used to exit 0 with an 11 m translation. Now exit 3, nothing written, and the
+// last line gives the failed reasons (not the weak findings listed before them).
+TEST(CameraImuCli, FirstThreeSecondsOfEurocFailWithExitThree) {
+  REQUIRE_ADUGS();
+  const auto dir = test::sharedDataDir() / "euroc_calib_aprilgrid" / "imu_april";
+  ADUGS_REQUIRE_SHARED(dir);
+  test::TempDir tmp("adugs_cimu_cli");
+  std::vector<fs::path> csvs;
+  for (const auto& e : fs::directory_iterator(dir / "cam0")) csvs.push_back(e.path());
+  std::sort(csvs.begin(), csvs.end());
+  ASSERT_GE(csvs.size(), 60u);
+  fs::create_directories(tmp / "first60");
+  for (size_t i = 0; i < 60; ++i) fs::copy_file(csvs[i], tmp / "first60" / csvs[i].filename());
+  std::string out;
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + (tmp / "first60").string() + " --imu " +
+                               (dir / "imu0.csv").string() + " --config " + (dir / "config.yaml").string() +
+                               " --out " + (tmp / "o").string(),
+                           &out),
+            3)
+      << out;
+  EXPECT_NE(out.find("over the 8152 corners"), std::string::npos) << out;
+  const size_t last = out.rfind("adugs: calibration failed: ");
+  ASSERT_NE(last, std::string::npos) << out;
+  const std::string last_line = out.substr(last);
+  EXPECT_NE(last_line.find("the camera sits"), std::string::npos) << last_line;
+  EXPECT_EQ(last_line.find("of frames with the board"), std::string::npos) << last_line;  // weak: duration
+  EXPECT_FALSE(fs::exists(tmp / "o" / "camchain-imucam.yaml"));
+}
+
+TEST(CameraImuCli, StillRigFailsWithExitThree) {
+  REQUIRE_ADUGS();
+  test::TempDir tmp("adugs_cimu_cli");
+  const WrittenRecording w = writeRecording(
+      tmp, synth::makeCameraImuRecording(4.0, 0.0, 0.3, 3, 1'000'000'000'000, true, synth::RigMotion::kStill));
+  std::string out;
+  const std::string dir = (tmp / "out").string();
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu +
+                               " --config " + w.config + " --out " + dir,
+                           &out),
+            3)
+      << out;
+  EXPECT_NE(out.find("degenerate motion"), std::string::npos) << out;
+  EXPECT_NE(out.find("adugs: calibration failed"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/camchain-imucam.yaml"));
+  // The bound options are checked like any input.
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu +
+                               " --config " + w.config + " --out " + dir + " --max-translation -1",
+                           &out),
+            2)
+      << out;
 }
 
 TEST(CameraImuCli, MissingImuFileIsNamed) {
@@ -125,6 +189,14 @@ TEST(CameraImuCli, TooFewFramesIsAnError) {
             2);
   EXPECT_NE(out.find("too few usable frames"), std::string::npos) << out;
   EXPECT_NE(out.find(w.corners), std::string::npos) << out;
+  // A --reference without T_BS is named before any calibration work (not after a long solve):
+  // it is the error reported here, ahead of the too-few-frames one the solve would raise.
+  test::writeText(tmp / "ref.yaml", "sensor_type: camera\n");
+  EXPECT_EQ(test::runAdugs("calib camera-imu --corners " + w.corners + " --imu " + w.imu + " --config " + w.config +
+                               " --reference " + (tmp / "ref.yaml").string() + " --out " + (tmp / "o").string(),
+                           &out),
+            2);
+  EXPECT_NE(out.find("ref.yaml:1: field 'T_BS'"), std::string::npos) << out;
 }
 
 TEST(CameraImuCli, IntrinsicsOfAnotherCameraAreAnError) {

@@ -1,4 +1,6 @@
 #include "calib/intrinsics_calibrator.h"
+#include "calib/calibration_report.h"
+#include "calib/intrinsics_verdict.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
@@ -6,6 +8,7 @@
 #include "calib/corner_csv.h"
 #include "data/camera_model.h"
 #include "data/input_error.h"
+#include "tests/calib/camera_imu_synthetic.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
 
@@ -53,6 +56,7 @@ TEST(IntrinsicsCalibrator, RecoversRadtanFromNoisySyntheticViews) {
   EXPECT_EQ(r.views.size(), 25u);
   ASSERT_TRUE(r.has_sigma);
   EXPECT_LT(r.sigma[0], 0.5);
+  EXPECT_EQ(judgeIntrinsics(r, o).verdict.verdict, Verdict::kOk);
 }
 
 TEST(IntrinsicsCalibrator, RecoversEquidistantFromNoisySyntheticViews) {
@@ -81,6 +85,56 @@ TEST(IntrinsicsCalibrator, RecoversEquidistantFromNoisySyntheticViews) {
       worst = std::max(worst, (uv - Eigen::Vector2d(u, v)).norm());
     }
   EXPECT_LT(worst, 0.2);
+  EXPECT_EQ(judgeIntrinsics(r, o).verdict.verdict, Verdict::kOk);
+}
+
+// Issue 18's weak case, rebuilt: a camera held still in front of the board (face-on, 30 views,
+// a few mm of jitter; the old start was 6000-9800 px and the old result fu 8800-46000 px,
+// k2 up to 8e6, exit 0). Now the focal length stays in the plausible range, and the verdict is
+// failed: its 1-sigma is many times the focal length itself (more than 10 %: not determined).
+TEST(IntrinsicsCalibrator, NearStillViewsAreNeverOk) {
+  PinholeCamera cam1 = synth::eurocLikeCamera();  // EuRoC cam1
+  cam1.params = {457.587, 456.134, 379.999, 255.238, -0.28368365, 0.07451284, -0.00010473, -3.555e-05};
+  const auto views = synth::nearStillViews(cam1, synth::eurocGrid(), 30, 0.2, 1, 1.1, 0, 0.002, 0.1);
+  const IntrinsicsOptions o;
+  const IntrinsicsResult r = calibrateIntrinsics(views, 752, 480, o);
+  EXPECT_GE(r.initial_focal_px, 0.2 * 752);
+  EXPECT_LE(r.initial_focal_px, 5 * 752);
+  EXPECT_GE(r.camera.fu(), 0.2 * 752 * 0.999);
+  EXPECT_LE(r.camera.fu(), 5 * 752 * 1.001);
+  const IntrinsicsJudgement j = judgeIntrinsics(r, o);
+  EXPECT_EQ(j.verdict.verdict, Verdict::kFailed) << formatVerdict(j.verdict, "");
+  EXPECT_TRUE(j.verdict.has("undetermined"));
+  EXPECT_TRUE(j.poorly_determined[0] && j.poorly_determined[1]);
+  EXPECT_GT(r.sigma[0], r.camera.fu());  // the covariance knows
+  EXPECT_TRUE(j.verdict.has("tilt"));
+  EXPECT_TRUE(j.verdict.has("coverage"));
+}
+
+// One pose held for 30 views (board tilted 20 deg): weak, the focal lengths named (documented
+// verdict of a single-pose set; the focal length comes out 1-7 % off over five seeds).
+TEST(IntrinsicsCalibrator, SinglePoseSetIsWeak) {
+  const PinholeCamera cam = synth::eurocLikeCamera();
+  const auto views = synth::nearStillViews(cam, synth::eurocGrid(), 30, 0.3, 3, 1.0, 20, 0, 0);
+  const IntrinsicsOptions o;
+  const IntrinsicsJudgement j = judgeIntrinsics(calibrateIntrinsics(views, 752, 480, o), o);
+  EXPECT_EQ(j.verdict.verdict, Verdict::kWeak) << formatVerdict(j.verdict, "");
+  EXPECT_TRUE(j.poorly_determined[0] && j.poorly_determined[1]);
+  EXPECT_LT(j.coverage.tilt_spread_deg, 1.0);
+  // Tilted 20 deg, one pose still gives the focal length to a few percent (weak, not failed).
+  EXPECT_LT(j.verdict.findings.size(), 10u);
+  EXPECT_FALSE(j.verdict.has("undetermined"));
+}
+
+// Exact corners: recovered exactly, nothing rejected (sigma has a floor), verdict ok.
+TEST(IntrinsicsCalibrator, NoiseFreeViewsAreRecoveredExactly) {
+  const PinholeCamera truth = synth::eurocLikeCamera();
+  const auto views = synth::syntheticViews(truth, AprilGrid{}, 12, 0.0, 9);
+  const IntrinsicsOptions o;
+  const IntrinsicsResult r = calibrateIntrinsics(views, truth.width, truth.height, o);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(r.camera.params[i], truth.params[i], 1e-6 * std::max(1.0, std::abs(truth.params[i]))) << i;
+  EXPECT_EQ(r.outliers, 0);
+  EXPECT_EQ(judgeIntrinsics(r, o).verdict.verdict, Verdict::kOk);
 }
 
 TEST(IntrinsicsCalibrator, RejectsGrossOutliers) {
@@ -158,22 +212,52 @@ TEST_F(EurocCamApril, PlainLeastSquaresAgreesWithOpenCv) {
   EXPECT_NEAR(r.camera.params[4], D.at<double>(0), 1e-3);
 }
 
-// Against EuRoC's published cam0 intrinsics. The issue's bar is 0.5 %; on these 30 nearly
-// identical views the radtan fit is not that well determined (see doc/calibration.md), so this
-// test pins what we measure: RMS below 0.3 px, focal lengths within 2.5 % (we get +2.0 %),
-// principal point within 1.5 % (+1.2 %, +0.9 %). Tighten when a better-conditioned data set is
-// available.
-TEST_F(EurocCamApril, CloseToPublishedIntrinsics) {
-  const IntrinsicsResult r = calibrateIntrinsics(views_, 752, 480, IntrinsicsOptions{});
+// Issue 18's bar for these 30 near-identical views (consecutive frames over 1.5 s, the board in
+// the upper-left 40 % of the image, its normal within 20 deg): verdict weak, focal within 10 % of
+// EuRoC's published cam0 values, and the report names the poorly determined parameters. We get
+// +2.0 % (fu, fv), +1.2 % / +0.9 % (pu, pv), RMS 0.15 px.
+TEST_F(EurocCamApril, WeakWithTheFocalWithinTenPercent) {
+  const IntrinsicsOptions o;
+  const IntrinsicsResult r = calibrateIntrinsics(views_, 752, 480, o);
+  const IntrinsicsJudgement j = judgeIntrinsics(r, o);
   const double published[4] = {458.654, 457.296, 367.215, 248.375};
+  EXPECT_EQ(j.verdict.verdict, Verdict::kWeak) << formatVerdict(j.verdict, "");
+  EXPECT_NEAR(r.camera.fu(), published[0], 0.10 * published[0]);
+  EXPECT_NEAR(r.camera.fv(), published[1], 0.10 * published[1]);
   EXPECT_LT(r.rms_px, 0.3);
-  EXPECT_NEAR(r.camera.fu(), published[0], 0.025 * published[0]);
-  EXPECT_NEAR(r.camera.fv(), published[1], 0.025 * published[1]);
-  EXPECT_NEAR(r.camera.pu(), published[2], 0.015 * published[2]);
-  EXPECT_NEAR(r.camera.pv(), published[3], 0.015 * published[3]);
-  EXPECT_NEAR(r.camera.params[4], -0.28340811, 0.03);
-  EXPECT_NEAR(r.camera.params[5], 0.07395907, 0.03);
   EXPECT_EQ(r.views.size(), 30u);
+  EXPECT_TRUE(j.verdict.has("coverage"));
+  EXPECT_LT(j.coverage.image_share, 0.5);
+  // Named: the focal lengths (one viewing angle) and what the uncovered image leaves open.
+  for (int i : {0, 1, 2, 3, 4, 5}) EXPECT_TRUE(j.poorly_determined[static_cast<size_t>(i)]) << i;
+  ReportContext ctx;
+  ctx.input = dir_.string();
+  const std::string report = formatIntrinsicsReport(r, j, ctx);
+  EXPECT_NE(report.find("WARNING: verdict WEAK"), std::string::npos);
+  EXPECT_NE(report.find("fu (the board was seen at one angle)"), std::string::npos) << report;
+  EXPECT_NE(report.find("<- poorly determined"), std::string::npos);
+}
+
+// Issue 18's bar on varied real views: EuRoC imu_april cam0 detections, every 20th frame (70
+// views, the board all over the image): fu, fv within 1 %, pu, pv within 2 % of the published
+// cam0 intrinsics, verdict ok. We get +0.44 / +0.64 % and -1.78 / -1.20 % (every 10th frame:
+// +0.24 / +0.45 % and -1.84 / -1.32 %).
+TEST(EurocImuApril, VariedViewsMeetThePublishedIntrinsics) {
+  const auto dir = test::sharedDataDir() / "euroc_calib_aprilgrid" / "imu_april" / "cam0";
+  ADUGS_REQUIRE_SHARED(dir);
+  const auto all = readCornerCsvs(dir.string(), nullptr);
+  std::vector<TargetObservation> views;
+  for (size_t i = 0; i < all.size(); i += 20) views.push_back(all[i]);
+  const IntrinsicsOptions o;
+  const IntrinsicsResult r = calibrateIntrinsics(views, 752, 480, o);
+  const IntrinsicsJudgement j = judgeIntrinsics(r, o);
+  const double published[4] = {458.654, 457.296, 367.215, 248.375};
+  EXPECT_NEAR(r.camera.fu(), published[0], 0.01 * published[0]);
+  EXPECT_NEAR(r.camera.fv(), published[1], 0.01 * published[1]);
+  EXPECT_NEAR(r.camera.pu(), published[2], 0.02 * published[2]);
+  EXPECT_NEAR(r.camera.pv(), published[3], 0.02 * published[3]);
+  EXPECT_EQ(j.verdict.verdict, Verdict::kOk) << formatVerdict(j.verdict, "");
+  EXPECT_GT(j.coverage.image_share, 0.9);
 }
 
 }  // namespace
