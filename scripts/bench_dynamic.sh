@@ -14,10 +14,10 @@
 #          [--levels "none low mid high"] [--duration 20] [--detector MODEL] [--jobs N]
 #          [--sam-encoder E.pt --sam-decoder D.pt] [--no-heatmap] [--results doc/results.md]
 #          [--ablation-levels "mid high"] [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]...
-#          [--candidate-levels "mid high"]
+#          [--candidate-levels "mid high"] [--no-ablation]
 # --results: writes the tables and the heatmap into that file (between the bench_dynamic markers)
 # and doc/images/; without it they are in DIR/report.md and DIR/heatmap.png.
-# --ablation-levels: the levels of the SORT ablation's runs (default: all).
+# --ablation-levels: the levels of the SORT ablation's runs (default: all); --no-ablation: none.
 # --candidate: one more detector-chain column with other masker settings (keys of the run config's
 # `dynamic:` map, e.g. `--candidate age20=max_age:20`), run on --candidate-levels (default: all)
 # and compared with the default chain seed by seed on the same sequences.
@@ -33,7 +33,7 @@ levels="none low mid high"
 duration=20
 detector="$root/../shared/models/yolox_nano/yolox_nano.onnx"
 jobs=$(nproc)
-sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels=""
+sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels="" ablation=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -47,6 +47,7 @@ while [ $# -gt 0 ]; do
     --sam-decoder) sam_decoder="$2"; shift 2 ;;
     --results) results="$2"; shift 2 ;;
     --no-heatmap) heatmap=0; shift ;;
+    --no-ablation) ablation=0; shift ;;
     --candidate) candidates="$candidates $2"; shift 2 ;;
     --candidate-levels) candidate_levels="$2"; shift 2 ;;
     --ablation-levels) ablation_levels="$2"; shift 2 ;;
@@ -58,14 +59,19 @@ command -v parallel > /dev/null || { echo "bench_dynamic: GNU parallel missing (
 [ -f "$detector" ] || { echo "bench_dynamic: detector model $detector missing (--detector)" >&2; exit 2; }
 mkdir -p "$out/seq" "$out/runs" "$out/configs"
 
-# Run configs of the ablations and the heatmap grid.
-printf 'dynamic:\n  noise: fixed\n' > "$out/configs/fixed_r.yaml"
-printf 'dynamic:\n  tracker: none\n' > "$out/configs/no_sort.yaml"
+# Run configs. Every run lifts the estimator's wall-clock guard (max_solver_time_s, 0.2 s by
+# default): on a loaded machine it cuts solves short by timing, which would make the ATE depend on
+# the load instead of the method (the tests lift it for the same reason); each run is then
+# deterministic. base.yaml for the plain runs, the ablations and the heatmap grid on top of it.
+guard='estimator:\n  max_solver_time_s: 10\n'
+printf "$guard" > "$out/configs/base.yaml"
+printf "${guard}dynamic:\n  noise: fixed\n" > "$out/configs/fixed_r.yaml"
+printf "${guard}dynamic:\n  tracker: none\n" > "$out/configs/no_sort.yaml"
 nmax_values="100 150 200 300"
 dmin_values="10 15 20 30"
 for n in $nmax_values; do
   for d in $dmin_values; do
-    printf 'tracker:\n  max_features: %s\n  min_distance_px: %s\n' "$n" "$d" > "$out/configs/grid_n${n}_d${d}.yaml"
+    printf "${guard}tracker:\n  max_features: %s\n  min_distance_px: %s\n" "$n" "$d" > "$out/configs/grid_n${n}_d${d}.yaml"
   done
 done
 
@@ -75,7 +81,7 @@ for c in $candidates; do
   name="${c%%=*}" settings="${c#*=}"
   [[ "$c" == *=* && "$name" =~ ^[A-Za-z0-9_]+$ && -n "$settings" ]] ||
     { echo "bench_dynamic: --candidate $c: expected NAME=KEY:VALUE[,KEY:VALUE...]" >&2; exit 2; }
-  { echo "dynamic:"; tr ',' '\n' <<< "$settings" | sed 's/^\([^:]*\):/  \1: /'; } > "$out/configs/cand_$name.yaml"
+  { printf "$guard"; echo "dynamic:"; tr ',' '\n' <<< "$settings" | sed 's/^\([^:]*\):/  \1: /'; } > "$out/configs/cand_$name.yaml"
   candidate_modes="$candidate_modes cand_$name"
 done
 candidate_levels="${candidate_levels:-$levels}"
@@ -95,7 +101,8 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --halt soon,fail=1 sim_one ::: $
 
 # 2. Runs: one command line per run ("run_one NAME SEQUENCE OPTIONS"), run by parallel, each
 # writing runs/NAME/.
-modes="none gt det det_fixed_r det_no_sort"
+modes="none gt det"
+[ "$ablation" = 1 ] && modes="$modes det_fixed_r det_no_sort"
 [ -n "$sam_encoder" ] && modes="$modes det_sam"
 det="--mask detector --detector-model $detector --segmenter grabcut"
 : > "$out/runs.txt"
@@ -106,12 +113,12 @@ for scene in $scenes; do
       for mode in $modes; do
         if [[ $mode == det_fixed_r || $mode == det_no_sort ]] && [[ " $ablation_levels " != *" $level "* ]]; then continue; fi
         case $mode in
-          none) opts="--mask none" ;;
-          gt) opts="--mask gt" ;;
-          det) opts="$det" ;;
+          none) opts="--mask none --config $out/configs/base.yaml" ;;
+          gt) opts="--mask gt --config $out/configs/base.yaml" ;;
+          det) opts="$det --config $out/configs/base.yaml" ;;
           det_fixed_r) opts="$det --config $out/configs/fixed_r.yaml" ;;
           det_no_sort) opts="$det --config $out/configs/no_sort.yaml" ;;
-          det_sam) opts="--mask detector --detector-model $detector --segmenter mobilesam --sam-encoder $sam_encoder --sam-decoder $sam_decoder" ;;
+          det_sam) opts="--mask detector --detector-model $detector --segmenter mobilesam --sam-encoder $sam_encoder --sam-decoder $sam_decoder --config $out/configs/base.yaml" ;;
         esac
         echo "run_one ${scene}_s${seed}_${level}_${mode} $seq $opts" >> "$out/runs.txt"
       done
