@@ -17,6 +17,8 @@ struct RobustCorrection {
   double residual_scaling = 1;  // r' = residual_scaling r
   double sqrt_rho1 = 1;         // J' = sqrt_rho1 (J - alpha_sq_norm r (r^T J))
   double alpha_sq_norm = 0;     // alpha / |r|^2
+  // No loss, or inside a loss's quadratic part (Huber below its threshold): r and J unchanged.
+  bool identity() const { return sqrt_rho1 == 1.0 && alpha_sq_norm == 0.0 && residual_scaling == 1.0; }
 };
 
 inline RobustCorrection robustCorrection(const ceres::LossFunction* loss, double sq_norm) {

@@ -51,6 +51,20 @@ void addJtJ(const double* a, int ta, const double* b, int tb, int rows, double* 
     }
 }
 
+// out (ta x tb, column-major with leading dimension ld) -= a b^T. Poses meet poses in nearly every
+// landmark's update: the 6 x 6 case as a fixed-size product (unrolled vector code).
+void subtractOuter(const double* a, int ta, const double* b, int tb, double* out, int ld) {
+  if (ta == 6 && tb == 6) {
+    Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>> o(out, 6, 6,
+                                                                      Eigen::OuterStride<>(ld));
+    o.noalias() -= Eigen::Map<const Eigen::Matrix<double, 6, 1>>(a) *
+                   Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b).transpose();
+    return;
+  }
+  for (int j = 0; j < tb; ++j)
+    for (int i = 0; i < ta; ++i) out[i + j * ld] -= a[i] * b[j];
+}
+
 // Ceres' corrector on a row-major Jacobian: J <- sqrt(rho') (J - alpha/|r|^2 r (r^T J)).
 void correctJacobian(const RobustCorrection& c, const double* r, int rows, int cols, double* J) {
   double rJ[kMaxCols] = {0};
@@ -239,9 +253,9 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
           std::copy(Ja, Ja + rows * b.size, Jt);
         }
       }
-      if (res.loss) correctJacobian(c, r, rows, b.tangent, Jt);
+      if (!c.identity()) correctJacobian(c, r, rows, b.tangent, Jt);
     }
-    if (res.loss)
+    if (!c.identity())
       for (int row = 0; row < rows; ++row) r[row] *= c.residual_scaling;
 
     int l_pos = -1;  // which block is the landmark's (when it is free)
@@ -303,9 +317,10 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
 }
 
 bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
-                               std::vector<double>* step_landmarks, double* model_decrease) const {
+                               std::vector<double>* step_landmarks, double* model_decrease) {
   const int n = dense_size_;
-  Eigen::MatrixXd S = at.H;
+  Eigen::MatrixXd& S = schur_;  // reused: no allocation per step
+  S = at.H;
   Eigen::VectorXd rhs = -at.g;
   Eigen::VectorXd damping(n);
   for (int i = 0; i < n; ++i) damping(i) = clampDiagonal(at.H(i, i)) / mu;
@@ -315,24 +330,26 @@ bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::Vector
     if (blocks_[l.block].constant) continue;
     const double inv = 1.0 / (at.h[k] + clampDiagonal(at.h[k]) / mu);
     const double* c = at.coupling.data() + l.coupling_base;
-    // S -= c c^T / h over the blocks the landmark meets (upper triangle, column by column).
+    const double g_inv = inv * at.g_landmark[k];
+    // S -= c c^T / h over the blocks the landmark meets: block (i, j) -= c_i (c_j / h)^T for
+    // i <= j (the upper triangle; a diagonal block is updated whole, its lower part is not read).
+    double w[kMaxCols];
     for (size_t j = 0; j < l.dense_blocks.size(); ++j) {
       const Block& bj = blocks_[l.dense_blocks[j]];
       const double* cj = c + l.coupling_offsets[j];
       for (int b = 0; b < bj.tangent; ++b) {
-        rhs[bj.offset + b] += inv * at.g_landmark[k] * cj[b];
-        const double w = inv * cj[b];
-        double* column = S.data() + static_cast<Eigen::Index>(bj.offset + b) * n;
-        for (size_t i = 0; i <= j; ++i) {
-          const Block& bi = blocks_[l.dense_blocks[i]];
-          const double* ci = c + l.coupling_offsets[i];
-          const int rows = i == j ? b + 1 : bi.tangent;  // diagonal block: its upper part
-          for (int a = 0; a < rows; ++a) column[bi.offset + a] -= w * ci[a];
-        }
+        rhs[bj.offset + b] += g_inv * cj[b];
+        w[b] = inv * cj[b];
+      }
+      double* column = S.data() + static_cast<Eigen::Index>(bj.offset) * n;
+      for (size_t i = 0; i <= j; ++i) {
+        const Block& bi = blocks_[l.dense_blocks[i]];
+        subtractOuter(c + l.coupling_offsets[i], bi.tangent, w, bj.tangent, column + bi.offset, n);
       }
     }
   }
-  const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(S);
+  // In place: the factor overwrites S (its upper triangle), which the next step rebuilds.
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(S);
   if (llt.info() != Eigen::Success) return false;
   *step_dense = llt.solve(rhs);
   if (!step_dense->allFinite()) return false;

@@ -121,7 +121,7 @@ class WindowSolver {
   bool evaluate(bool linearize, Linearization* out);
   // The damped Schur step of `at` for mu; false if the reduced system is not positive definite.
   bool computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
-                   std::vector<double>* step_landmarks, double* model_decrease) const;
+                   std::vector<double>* step_landmarks, double* model_decrease);
   void applyStep(const Eigen::VectorXd& step_dense, const std::vector<double>& step_landmarks);
   void restore();
 
@@ -135,6 +135,7 @@ class WindowSolver {
   // At the current point and at a step's candidate (linearised there too: nearly every step is
   // accepted, so its Jacobians are the next iteration's).
   Linearization current_, candidate_;
+  Eigen::MatrixXd schur_;  // the reduced system of the last step (workspace)
 };
 
 }  // namespace adugs::vio
