@@ -35,36 +35,34 @@ void evaluateTwoFrame(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j, 
   Eigen::Matrix<double, 2, 3> J_proj;
   J_proj << 1.0 / z, 0.0, -p_cj.x() / (z * z), 0.0, 1.0 / z, -p_cj.y() / (z * z);
   J_proj *= s;
+  // The chain rule with the 2 x 3 projection Jacobian applied first: every term below is a
+  // 2 x 3 times 3 x 3 product (not 3 x 3 times 3 x 3, then 2 x 3 times 3 x 6).
   const Eigen::Matrix3d R_i = q_i.toRotationMatrix(), R_ic = q_ic.toRotationMatrix();
-  const Eigen::Matrix3d R_cb_wj = R_ic.transpose() * q_j.conjugate().toRotationMatrix();
-  const Eigen::Matrix3d R_cj_ci = R_cb_wj * R_i * R_ic;  // rotation camera i -> camera j
+  const Eigen::Matrix<double, 2, 3> A = J_proj * R_ic.transpose();      // d r / d p_bj
+  const Eigen::Matrix<double, 2, 3> B = A * q_j.conjugate().toRotationMatrix();  // d r / d p_w
+  const Eigen::Matrix<double, 2, 3> B_i = B * R_i;                      // d r / d p_bi
+  const Eigen::Matrix<double, 2, 3> C = B_i * R_ic;                     // d r / d p_ci
 
   if (jacobians && jacobians[0]) {
-    Eigen::Matrix<double, 3, 6> J;
-    J.leftCols<3>() = R_cb_wj;
-    J.rightCols<3>() = -R_cb_wj * R_i * skew(p_bi);
     Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[0]);
-    J_out = J_proj * J;
+    J_out.leftCols<3>() = B;
+    J_out.rightCols<3>() = -B_i * skew(p_bi);
   }
   if (jacobians && jacobians[1]) {
-    Eigen::Matrix<double, 3, 6> J;
-    J.leftCols<3>() = -R_cb_wj;
-    J.rightCols<3>() = R_ic.transpose() * skew(p_bj);
     Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[1]);
-    J_out = J_proj * J;
+    J_out.leftCols<3>() = -B;
+    J_out.rightCols<3>() = A * skew(p_bj);
   }
   if (jacobians && jacobians[2]) {
-    Eigen::Matrix<double, 3, 6> J;
-    J.leftCols<3>() = R_cb_wj * R_i - R_ic.transpose();
-    J.rightCols<3>() = skew(p_cj) - R_cj_ci * skew(p_ci);
     Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[2]);
-    J_out = J_proj * J;
+    J_out.leftCols<3>() = B_i - A;
+    J_out.rightCols<3>() = J_proj * skew(p_cj) - C * skew(p_ci);
   }
   if (jacobians && jacobians[3]) {
     Eigen::Map<Eigen::Vector2d> J_out(jacobians[3]);
-    J_out = J_proj * R_cj_ci * f_i * (-1.0 / (lambda * lambda));
+    J_out = C * f_i * (-1.0 / (lambda * lambda));
   }
-  if (d_pt_i) *d_pt_i = (J_proj * R_cj_ci).leftCols<2>() / lambda;
+  if (d_pt_i) *d_pt_i = C.leftCols<2>() / lambda;
 }
 
 }  // namespace
