@@ -355,7 +355,7 @@ void SlidingWindowEstimator::solve() {
 
   for (auto& f : frames_) {
     solver.addBlock(f->pose, 7, &kPoseManifold);
-    solver.addBlock(f->speed_bias, 9);
+    solver.addChainBlock(f->speed_bias, 9);  // meets only its IMU neighbours
   }
   solver.addBlock(T_B_C_, 7, &kPoseManifold);
   const bool extrinsic_free = options_.estimate_extrinsic && !frames_.back()->stationary;

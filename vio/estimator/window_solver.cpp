@@ -90,6 +90,11 @@ void WindowSolver::addBlock(double* x, int size, const ceres::Manifold* manifold
   blocks_.push_back(std::move(b));
 }
 
+void WindowSolver::addChainBlock(double* x, int size) {
+  addBlock(x, size);
+  blocks_.back().chain = true;
+}
+
 void WindowSolver::addLandmark(double* inverse_depth) {
   addBlock(inverse_depth, 1);
   Landmark l;
@@ -129,14 +134,20 @@ void WindowSolver::addResidual(const ceres::CostFunction* cost, const ceres::Los
 }
 
 void WindowSolver::prepare() {
+  // Dense layout: the free chain blocks first (in the order added), then the other frame blocks.
   dense_size_ = 0;
-  for (Block& b : blocks_) {
-    b.offset = -1;
-    if (b.constant || b.landmark >= 0) continue;
-    b.offset = dense_size_;
-    dense_size_ += b.tangent;
-    if (b.manifold) b.plus_jacobian.resize(static_cast<size_t>(b.size * b.tangent));
-  }
+  chain_.clear();
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t i = 0; i < blocks_.size(); ++i) {
+      Block& b = blocks_[i];
+      if (pass == 0) b.offset = -1;
+      if (b.constant || b.landmark >= 0 || b.chain != (pass == 0)) continue;
+      b.offset = dense_size_;
+      dense_size_ += b.tangent;
+      if (b.chain) chain_.push_back(static_cast<int>(i));
+      if (b.manifold) b.plus_jacobian.resize(static_cast<size_t>(b.size * b.tangent));
+    }
+  chain_size_ = chain_.empty() ? 0 : blocks_[chain_.back()].offset + blocks_[chain_.back()].tangent;
   for (Landmark& l : landmarks_) {
     l.dense_blocks.clear();
     l.coupling_offsets.clear();
@@ -184,6 +195,7 @@ void WindowSolver::prepare() {
   prior_blocks_.clear();
   if (prior_)
     for (const double* b : prior_->blocks) prior_blocks_.push_back(indexOf(b));
+  chain_first_ = !chain_.empty() && chainIsTridiagonal();
   for (Linearization* L : {&current_, &candidate_}) {
     L->H.resize(dense_size_, dense_size_);
     L->g.resize(dense_size_);
@@ -191,6 +203,28 @@ void WindowSolver::prepare() {
     L->g_landmark.resize(landmarks_.size());
     L->coupling.resize(static_cast<size_t>(coupling_total));
   }
+}
+
+bool WindowSolver::chainIsTridiagonal() const {
+  std::vector<int> position(blocks_.size(), -1);  // in chain_
+  for (size_t k = 0; k < chain_.size(); ++k) position[static_cast<size_t>(chain_[k])] = static_cast<int>(k);
+  auto neighbours = [&](const std::vector<int>& blocks) {
+    int lo = -1, hi = -1;
+    for (int b : blocks) {
+      const int k = position[static_cast<size_t>(b)];
+      if (k < 0) continue;
+      lo = lo < 0 ? k : std::min(lo, k);
+      hi = std::max(hi, k);
+    }
+    return hi - lo <= 1;
+  };
+  for (const Residual& r : residuals_)
+    if (!neighbours(r.blocks)) return false;
+  if (prior_ && !neighbours(prior_blocks_)) return false;
+  for (const Landmark& l : landmarks_)
+    for (int b : l.dense_blocks)
+      if (position[static_cast<size_t>(b)] >= 0) return false;
+  return true;
 }
 
 bool WindowSolver::evaluate(bool linearize, Linearization* out) {
@@ -348,10 +382,14 @@ bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::Vector
       }
     }
   }
-  // In place: the factor overwrites S (its upper triangle), which the next step rebuilds.
-  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(S);
-  if (llt.info() != Eigen::Success) return false;
-  *step_dense = llt.solve(rhs);
+  if (chain_first_) {
+    if (!solveChainFirst(S, rhs, step_dense)) return false;
+  } else {
+    // In place: the factor overwrites S (its upper triangle), which the next step rebuilds.
+    const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(S);
+    if (llt.info() != Eigen::Success) return false;
+    *step_dense = llt.solve(rhs);
+  }
   if (!step_dense->allFinite()) return false;
   double decrease =
       0.5 * (-at.g.dot(*step_dense) + step_dense->dot(damping.cwiseProduct(*step_dense)));
@@ -372,6 +410,57 @@ bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::Vector
   }
   *model_decrease = decrease;
   return std::isfinite(decrease);
+}
+
+bool WindowSolver::solveChainFirst(Eigen::MatrixXd& S, const Eigen::VectorXd& rhs,
+                                   Eigen::VectorXd* x) const {
+  // S = [S_cc S_cf; S_fc S_ff] (chain c first, frame blocks f) with S_cc block-tridiagonal.
+  // S_cc = U^T U with U block-bidiagonal (U_kk, U_k,k+1); Y = U^-T S_cf and z = U^-T rhs_c are
+  // written over S_cf's rows block by block; then (S_ff - Y^T Y) x_f = rhs_f - Y^T z, and
+  // U x_c = z - Y x_f backwards.
+  const int n = dense_size_, nc = chain_size_, nf = n - nc;
+  const size_t m = chain_.size();
+  Eigen::VectorXd z = rhs.head(nc);
+  for (size_t k = 0; k < m; ++k) {
+    const Block& b = blocks_[chain_[k]];
+    const int o = b.offset, t = b.tangent;
+    if (k > 0) {  // what block k-1's row contributes to row k
+      const Block& a = blocks_[chain_[k - 1]];
+      const auto U_prev = S.block(a.offset, o, a.tangent, t);
+      S.block(o, o, t, t).noalias() -= U_prev.transpose() * U_prev;
+      S.block(o, nc, t, nf).noalias() -= U_prev.transpose() * S.block(a.offset, nc, a.tangent, nf);
+      z.segment(o, t).noalias() -= U_prev.transpose() * z.segment(a.offset, a.tangent);
+    }
+    auto S_kk = S.block(o, o, t, t);
+    const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(S_kk);  // S_kk <- U_kk
+    if (llt.info() != Eigen::Success) return false;
+    const auto U_kk_T = S_kk.triangularView<Eigen::Upper>().transpose();
+    if (k + 1 < m) {
+      const Block& next = blocks_[chain_[k + 1]];
+      U_kk_T.solveInPlace(S.block(o, next.offset, t, next.tangent));
+    }
+    U_kk_T.solveInPlace(S.block(o, nc, t, nf));
+    U_kk_T.solveInPlace(z.segment(o, t));
+  }
+  const auto Y = S.block(0, nc, nc, nf);
+  auto S_ff = S.block(nc, nc, nf, nf);
+  S_ff.selfadjointView<Eigen::Upper>().rankUpdate(Y.transpose(), -1.0);
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(S_ff);
+  if (llt.info() != Eigen::Success) return false;
+  x->resize(n);
+  x->tail(nf) = llt.solve(rhs.tail(nf) - Y.transpose() * z);
+  for (size_t k = m; k-- > 0;) {
+    const Block& b = blocks_[chain_[k]];
+    const int o = b.offset, t = b.tangent;
+    Eigen::VectorXd v = z.segment(o, t) - S.block(o, nc, t, nf) * x->tail(nf);
+    if (k + 1 < m) {
+      const Block& next = blocks_[chain_[k + 1]];
+      v.noalias() -= S.block(o, next.offset, t, next.tangent) * x->segment(next.offset, next.tangent);
+    }
+    S.block(o, o, t, t).triangularView<Eigen::Upper>().solveInPlace(v);
+    x->segment(o, t) = v;
+  }
+  return true;
 }
 
 void WindowSolver::applyStep(const Eigen::VectorXd& step_dense,
@@ -403,6 +492,7 @@ WindowSolverSummary WindowSolver::solve(const WindowSolverOptions& options) {
   };
   prepare();
   WindowSolverSummary summary;
+  summary.chain_first = chain_first_;
   if (!evaluate(true, &current_)) return summary;
   summary.initial_cost = summary.final_cost = current_.cost;
   double mu = options.initial_radius, nu = 2.0;
