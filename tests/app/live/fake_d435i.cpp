@@ -212,7 +212,9 @@ void FakeD435i::deliverFrame(int f) {
       for (int x = 0; x < s.width; ++x) {
         uint32_t cell = static_cast<uint32_t>((y / 24) * 1000 + x / 24) * 2654435761u;  // a hash per cell
         cell ^= cell >> 13;
-        uint32_t noise = static_cast<uint32_t>((f * 7919 + y) * 104729 + x) * 2246822519u;  // sensor noise
+        uint32_t noise = ((static_cast<uint32_t>(f) * 7919u + static_cast<uint32_t>(y)) * 104729u +  // sensor noise
+                           static_cast<uint32_t>(x)) *
+                          2246822519u;  // unsigned: wraps by definition (int overflowed: UB)
         noise ^= noise >> 15;
         image[(static_cast<size_t>(y) * s.width + x) * bpp] = static_cast<uint8_t>(30 + cell % 200 + noise % 5);
       }
