@@ -14,6 +14,7 @@
 namespace adugs {
 namespace {
 
+using test::readFile;
 using test::runAdugs;
 using test::TempDir;
 using test::writeText;
@@ -152,13 +153,6 @@ TEST(CmdEval, NoAssociatedPoses) {
   EXPECT_EQ(runAdugs(args(dir, "--max-dt 0.03"), &out), 0) << out;
 }
 
-std::string readText(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // The "trans [m]" and "rot [deg]" rows of the ATE table.
 std::string ateRows(const std::string& out) {
   std::smatch m;
@@ -171,7 +165,7 @@ std::string ateRows(const std::string& out) {
 // timestamp and x = 123.5 m; returns how many lines it added.
 int addDuplicates(const std::filesystem::path& in, const std::filesystem::path& out, char sep,
                   int every) {
-  std::istringstream text(readText(in));
+  std::istringstream text(readFile(in));
   std::string line, result;
   int data_line = 0, added = 0;
   while (std::getline(text, line)) {
@@ -215,12 +209,12 @@ TEST(CmdEval, DuplicateTimestampsKeepTheFirstPoseWithAWarning) {
     EXPECT_NE(out.find("warning: " + gt_dup + ": 10 poses"), std::string::npos) << out;
     EXPECT_NE(out.find("(TUM, 200 poses, 4 duplicate stamps dropped)"), std::string::npos) << out;
     EXPECT_NE(out.find("200 pairs"), std::string::npos) << out;
-    const std::string j = readText(dir / "dup.json");
+    const std::string j = readFile(dir / "dup.json");
     EXPECT_NE(j.find("\"poses\": 200, \"duplicates_dropped\": 4}"), std::string::npos) << j;
     EXPECT_NE(j.find("\"poses\": 200, \"duplicates_dropped\": 10}"), std::string::npos) << j;
   }
   // Time going backwards is still refused, naming file and line.
-  std::istringstream lines(readText(dir / "est.txt"));
+  std::istringstream lines(readFile(dir / "est.txt"));
   std::string line, text, line2;
   for (int n = 1; std::getline(lines, line); ++n) {
     text += line + "\n";
@@ -277,7 +271,7 @@ TEST(CmdEval, OpenLorisCorrectRate) {
       << out;
   EXPECT_NE(out.find("position error <= 1 m and orientation error <= 30 deg"), std::string::npos)
       << out;
-  const std::string j = readText(json);
+  const std::string j = readFile(json);
   std::smatch m;
   ASSERT_TRUE(std::regex_search(j, m, std::regex(R"("correct_rate": \{"cr": ([0-9.e-]+))"))) << j;
   EXPECT_NEAR(std::stod(m[1]), 0.9, 1e-12) << j;

@@ -19,13 +19,6 @@
 namespace adugs::test {
 namespace {
 
-std::string readText(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The value of "key": NUMBER inside the JSON object that follows `anchor`.
 double jsonValue(const std::string& json, const std::string& anchor, const std::string& key) {
   const size_t at = json.find(anchor);
@@ -46,7 +39,7 @@ TEST(CmdEvalMot, ReproducesPyMotmetricsReferenceValues) {
                      &log),
             0)
       << log;
-  const std::string j = readText(json);
+  const std::string j = readFile(json);
   // Rows of expected.txt: idf1 idp idr recall precision GT MT PT ML FP FN IDs FM MOTA MOTP(dist).
   const std::map<std::string, std::vector<double>> expected = {
       {"TUD-Campus/test.txt", {0.557659, 0.729730, 0.451253, 0.582173, 0.941441, 8, 1, 6, 1, 13, 150, 7, 7, 0.526462, 0.277201}},
@@ -75,7 +68,7 @@ TEST(CmdEvalMot, HotaReproducesTrackEvalOnTud) {
                      &log),
             0)
       << log;
-  const std::string j = readText(json);
+  const std::string j = readFile(json);
   const std::map<std::string, std::vector<double>> expected = {
       {"TUD-Campus/test.txt", {0.391397, 0.418047, 0.369121, 0.770052, 0.441577, 0.714083, 0.383225, 0.754050}},
       {"TUD-Stadtmitte/test.txt", {0.397849, 0.392268, 0.408841, 0.737521, 0.413131, 0.637622, 0.449219, 0.631203}},
@@ -99,7 +92,7 @@ TEST(CmdEvalMot, SwitchesAreListedWithTheirFrames) {
                      &log),
             0)
       << log;
-  EXPECT_NE(readText(csv).find("est.txt,7,1,5,6\n"), std::string::npos) << readText(csv);
+  EXPECT_NE(readFile(csv).find("est.txt,7,1,5,6\n"), std::string::npos) << readFile(csv);
 }
 
 TEST(CmdEvalMot, BadInputIsNamed) {
@@ -130,7 +123,7 @@ TEST(CmdEvalMot, ZeroConfidenceGroundTruthIsIgnoredNotMissed) {
                      &log),
             0)
       << log;
-  const std::string j = readText(json);
+  const std::string j = readFile(json);
   EXPECT_EQ(jsonValue(j, "\"overall\"", "mota"), 1.0);
   EXPECT_EQ(jsonValue(j, "\"overall\"", "num_false_positives"), 0.0);
   EXPECT_EQ(jsonValue(j, "\"overall\"", "idf1"), 1.0);
@@ -156,7 +149,7 @@ TEST(CmdEvalMot, Mot15RuleScoresHypothesesOnZeroConfidenceRowsAsFalsePositives) 
   ASSERT_EQ(runAdugs("eval-mot" + files + " --ignore-rule mot15 --json " + mot15, &log), 0) << log;
   EXPECT_NE(log.find("TrackEval's MOT15"), std::string::npos) << log;
 
-  const std::string r = readText(regions);
+  const std::string r = readFile(regions);
   EXPECT_NE(r.find("\"ignore_rule\": \"zero-confidence\""), std::string::npos) << r;
   EXPECT_EQ(jsonValue(r, "\"overall\"", "num_objects"), 2.0);
   EXPECT_EQ(jsonValue(r, "\"overall\"", "num_false_positives"), 0.0);
@@ -164,7 +157,7 @@ TEST(CmdEvalMot, Mot15RuleScoresHypothesesOnZeroConfidenceRowsAsFalsePositives) 
   EXPECT_EQ(jsonValue(r, "\"overall\"", "idf1"), 1.0);
   EXPECT_NEAR(jsonValue(r, "\"overall\"", "hota"), 1.0, 1e-12);
 
-  const std::string m = readText(mot15);
+  const std::string m = readFile(mot15);
   EXPECT_NE(m.find("\"ignore_rule\": \"mot15\""), std::string::npos) << m;
   EXPECT_EQ(jsonValue(m, "\"overall\"", "num_objects"), 2.0);
   EXPECT_EQ(jsonValue(m, "\"overall\"", "num_matches"), 2.0);
@@ -213,7 +206,7 @@ TEST(CmdTrack, DefaultsMeetTheIssueTargetsOnTud) {
       eval += " --gt " + (ref / seq / "gt.txt").string() + " --est " + (out / seq / rule / "tracks.txt").string();
   }
   ASSERT_EQ(runAdugs(eval, &log), 0) << log;
-  const std::string j = readText(out / "m.json");
+  const std::string j = readFile(out / "m.json");
   const auto metric = [&](const std::string& seq, const std::string& rule, const std::string& key) {
     return jsonValue(j, seq + "/" + rule + "/tracks.txt", key);
   };
@@ -251,7 +244,7 @@ TEST(CmdTrack, PublicDetectionsOfARealSequenceTrackWell) {
                      &log),
             0)
       << log;
-  const std::string j = readText(out / "m.json");
+  const std::string j = readFile(out / "m.json");
   const double mota = jsonValue(j, "a/tracks.txt", "mota"), idf1 = jsonValue(j, "a/tracks.txt", "idf1");
   EXPECT_GT(mota, 0.68) << log;
   EXPECT_GT(idf1, 0.68) << log;
@@ -272,14 +265,14 @@ TEST(CmdTrack, DetectingEverySecondFrameCostsLittle) {
                      &log),
             0)
       << log;
-  const std::string tracks = readText(out / "tracks.txt");
+  const std::string tracks = readFile(out / "tracks.txt");
   EXPECT_NE(tracks.find("\n2,"), std::string::npos) << "no boxes on the skipped frame 2";
   ASSERT_EQ(runAdugs("eval-mot --gt " + (seq / "gt.txt").string() + " --est " + (out / "tracks.txt").string() +
                          " --json " + (out / "m.json").string(),
                      &log),
             0)
       << log;
-  const std::string j = readText(out / "m.json");
+  const std::string j = readFile(out / "m.json");
   EXPECT_GT(jsonValue(j, "tracks.txt", "mota"), 0.68) << log;
   EXPECT_NE(runAdugs("track --detections " + (seq / "det.txt").string() + " --detect-every 0 --out " + out.path().string(),
                      &log),
@@ -368,7 +361,7 @@ TEST(CmdTrack, DetectorOnARealVideo) {
   const std::string tracks = (dir / "o/tracks.txt").string();
   ASSERT_EQ(runAdugs("eval-mot --gt " + tracks + " --est " + tracks + " --json " + (dir / "m.json").string(), &log), 0)
       << log;
-  const std::string j = readText(dir / "m.json");
+  const std::string j = readFile(dir / "m.json");
   EXPECT_EQ(jsonValue(j, "\"overall\"", "mota"), 1.0);
   EXPECT_GT(jsonValue(j, "\"overall\"", "num_objects"), 40 * 3.0);  // several people per frame
   // The detector's boxes kept as det.txt (with scores): tracking them again gives the same tracks
@@ -385,7 +378,7 @@ TEST(CmdTrack, DetectorOnARealVideo) {
                      &log),
             0)
       << log;
-  const std::string n = readText(dir / "n.json");
+  const std::string n = readFile(dir / "n.json");
   EXPECT_NEAR(jsonValue(n, "r/tracks.txt", "mota"), 1.0, 1e-9) << log;
   EXPECT_NEAR(jsonValue(n, "r/tracks.txt", "idf1"), 1.0, 1e-9) << log;
   EXPECT_GT(jsonValue(n, "q/tracks.txt", "recall"), 0.9) << log;

@@ -21,11 +21,13 @@ namespace fs = std::filesystem;
 
 const std::string kSourceDir = ADUGS_SOURCE_DIR;
 
-// Lines of a file (a trajectory being written).
+// Complete pose rows of a trajectory being written: the header comment and a row still being
+// written (no newline yet) do not count.
 size_t lines(const fs::path& p) {
-  std::ifstream in(p);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);) ++n;
+  const std::string text = fs::exists(p) ? readFile(p) : std::string();
+  size_t n = 0, start = 0;
+  for (size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1)
+    if (end > start && text[start] != '#') ++n;
   return n;
 }
 

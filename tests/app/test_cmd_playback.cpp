@@ -22,15 +22,8 @@ namespace adugs::test {
 namespace {
 namespace fs = std::filesystem;
 
-std::string readText(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 double summaryValue(const fs::path& summary, const std::string& key) {
-  const std::string text = readText(summary);
+  const std::string text = readFile(summary);
   const size_t at = text.find("\n" + key + ": ");
   if (at == std::string::npos) return -1;
   return std::stod(text.substr(at + key.size() + 3));
@@ -86,7 +79,7 @@ TEST_F(CmdPlayback, ViodeBagGivesTheTrajectoryOfTheAslFolder) {
                      &log),
             0)
       << log;
-  const std::string a = readText(out_asl / "trajectory.tum"), b = readText(out_bag / "trajectory.tum");
+  const std::string a = readFile(out_asl / "trajectory.tum"), b = readFile(out_bag / "trajectory.tum");
   EXPECT_GT(data::readTrajectory((out_bag / "trajectory.tum").string()).size(), 80u);
   EXPECT_EQ(a, b) << "same measurements, same poses";
   // Ground truth from the bag's /odometry topic, written beside the trajectory and evaluated.
