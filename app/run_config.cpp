@@ -1,13 +1,18 @@
 #include "app/run_config.h"
 
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "data/builtin_config.h"
 #include "data/yaml_options.h"
 
 namespace adugs::app {
 
-RunConfig loadRunConfig(const std::string& path) {
+namespace {
+
+RunConfig readRunConfig(data::YamlOptionsReader& r) {
   RunConfig c;
-  if (path.empty()) return c;
-  data::YamlOptionsReader r = data::YamlOptionsReader::fromFile(path);
   if (r.has("tracker")) {
     data::YamlOptionsReader t = r.child("tracker");
     vio::readFeatureTrackerOptions(t, &c.tracker);
@@ -78,6 +83,41 @@ RunConfig loadRunConfig(const std::string& path) {
   }
   r.finish();
   return c;
+}
+
+}  // namespace
+
+RunConfig loadRunConfig(const std::string& path) {
+  if (path.empty()) return RunConfig{};
+  data::YamlOptionsReader r = data::YamlOptionsReader::fromFile(path);
+  return readRunConfig(r);
+}
+
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera) {
+  std::ostringstream what;
+  what << camera.rate_hz << " Hz camera";
+  const bool ideal_pinhole =
+      camera.distortion_model == data::DistortionModel::kRadialTangential &&
+      std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; });
+  if (camera.rate_hz >= 25.0) return {"d435i.yaml", what.str() + ": the RealSense D435i class (30 Hz)"};
+  if (!(camera.rate_hz > 0))
+    return {"euroc.yaml", "camera rate unknown: the EuRoC class (global shutter, 20 Hz)"};
+  if (ideal_pinhole)
+    return {"sim.yaml", what.str() + " without distortion: the simulator class (rendered images, adugs sim, VIODE)"};
+  return {"euroc.yaml", what.str() + " with lens distortion: the EuRoC class (global shutter, 20 Hz)"};
+}
+
+RunConfig runConfigFor(const std::string& path, const data::CameraCalibration& camera, std::string* described) {
+  if (!path.empty()) {
+    *described = path;
+    return loadRunConfig(path);
+  }
+  const RunConfigChoice choice = chooseRunConfig(camera);
+  const std::string text = data::builtinConfigText(choice.name);
+  if (text.empty()) throw std::logic_error("data/config/" + choice.name + " is not built into this adugs");
+  *described = "data/config/" + choice.name + " (built in; " + choice.reason + ")";
+  data::YamlOptionsReader r = data::YamlOptionsReader::fromString(text, "built-in data/config/" + choice.name);
+  return readRunConfig(r);
 }
 
 void applyPlaybackConfig(const data::PlaybackOptions& config, bool window_given, data::PlaybackOptions* o) {

@@ -45,6 +45,20 @@ struct RunConfig {
 // Fills the playback fields the command line left empty (or at their default) from the config.
 void applyPlaybackConfig(const data::PlaybackOptions& config, bool window_given, data::PlaybackOptions* options);
 
-RunConfig loadRunConfig(const std::string& path);  // "" = defaults
+RunConfig loadRunConfig(const std::string& path);  // "" = the defaults in code
+
+// The config `adugs run` / `adugs live` use without --config: one per sensor class in data/config/
+// (built into the binary), chosen from the sequence's camera rate and model:
+//   d435i.yaml  a camera at 25 Hz or more (RealSense D435i: 30 Hz, rolling IMU clock: td online)
+//   sim.yaml    slower and without lens distortion: rendered images (adugs sim, VIODE)
+//   euroc.yaml  slower with distortion, or rate unknown: global-shutter cameras at ~20 Hz
+struct RunConfigChoice {
+  std::string name;    // file name in data/config/
+  std::string reason;  // why, for the start-of-run line and the summary
+};
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera);
+// The user's --config file when given, else the sensor class's built-in one; `described` says
+// which (and why) for the start-of-run line and the summary.
+RunConfig runConfigFor(const std::string& config_path, const data::CameraCalibration& camera, std::string* described);
 
 }  // namespace adugs::app

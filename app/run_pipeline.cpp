@@ -154,7 +154,9 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
 }  // namespace
 
 void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
-  const RunConfig config = loadRunConfig(a.config_path);
+  std::string config_used;
+  const RunConfig config = runConfigFor(a.config_path, sequence.camera, &config_used);
+  if (!a.quiet) std::cerr << a.command << ": config " << config_used << "\n";
   fs::create_directories(a.out_dir);
   const std::string traj_path = sequence.has_imu ? (fs::path(a.out_dir) / "trajectory.tum").string() : "";
   Pipeline pipeline(*sequence.source, sequence.camera, pipelineOptions(config, sequence, a, traj_path));
@@ -169,7 +171,7 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   stats.skipped_frames = r.source_counts.skipped_frames;
   stats.sequence_s = s.sequence_s;
   stats.wall_s = r.wall_s;
-  stats.extra_summary = summaryLines(pipeline, r, sequence, config, a);
+  stats.extra_summary = "config: \"" + config_used + "\"\n" + summaryLines(pipeline, r, sequence, config, a);
   if (r.end == PipelineResult::End::kStopped && !a.quiet)
     std::cerr << a.command << ": stopped (" << r.why << ") after " << s.frames
               << " frames; the frames already inside were finished and every output is written\n";

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "data/builtin_config.h"
 #include "data/euroc_reader.h"
 #include "data/input_error.h"
 #include "data/kalibr_calibration.h"
@@ -136,6 +137,7 @@ OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, c
   ro.expected_height = s.camera.height;
   ro.image_time_shift_ns = calib.camera->time_shift_ns;
   auto source = std::make_unique<RosbagSource>(o.path, ro);
+  if (!(s.camera.rate_hz > 0)) s.camera.rate_hz = source->imageRateHz();  // Kalibr files rarely give it
 
   // Ground truth: --gt, else the user's --gt-topic, else the preset's file beside the bag, else
   // the preset's topic if this bag has it.
@@ -160,6 +162,10 @@ OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, c
 }
 
 }  // namespace
+
+std::string presetCalibrationText(const std::string& preset, const std::string& file) {
+  return builtinConfigText("presets/" + preset + "/" + file);
+}
 
 std::vector<std::string> datasetPresetNames() {
   std::vector<std::string> names;

@@ -76,6 +76,9 @@ RosbagSource::RosbagSource(const std::string& bag_path, RosbagSourceOptions opti
     for (const std::string& name : names)
       if (rosbag::View(*bag_, rosbag::TopicQuery(name)).size() == 0)
         throw InputError(path_, 0, "topic " + name, "the topic has no messages in this bag");
+    rosbag::View images(*bag_, rosbag::TopicQuery(t.image));  // its getters are not const
+    const double span = (images.getEndTime() - images.getBeginTime()).toSec();
+    if (images.size() > 1 && span > 0) image_rate_hz_ = static_cast<double>(images.size() - 1) / span;
     view_ = std::make_unique<rosbag::View>(*bag_, rosbag::TopicQuery(names));
     cursor_ = std::make_unique<Cursor>(Cursor{view_->begin(), view_->end()});
   } catch (const rosbag::BagException& e) {

@@ -55,6 +55,8 @@ class RosbagSource : public SequenceSource {
   std::string description() const override;
   // The bag's topics (name -> type), as read when it was opened.
   const std::map<std::string, BagTopic>& topics() const { return topics_; }
+  // The image topic's rate from its record times (messages - 1) / span; 0 with one message.
+  double imageRateHz() const { return image_rate_hz_; }
 
  private:
   struct Pending;
@@ -65,6 +67,7 @@ class RosbagSource : public SequenceSource {
   RosbagSourceOptions options_;
   std::unique_ptr<rosbag::Bag> bag_;
   std::map<std::string, BagTopic> topics_;
+  double image_rate_hz_ = 0;
   std::unique_ptr<rosbag::View> view_;
   struct Cursor;
   std::unique_ptr<Cursor> cursor_;

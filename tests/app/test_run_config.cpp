@@ -1,0 +1,99 @@
+// The run config without --config: one per sensor class in data/config/, built into the binary and
+// chosen from the sequence's camera rate and model (app/run_config.h).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "app/run_config.h"
+#include "data/builtin_config.h"
+#include "data/trajectory_io.h"
+#include "tests/test_support.h"
+
+namespace adugs::test {
+namespace {
+namespace fs = std::filesystem;
+
+data::CameraCalibration camera(double rate_hz, std::vector<double> distortion) {
+  data::CameraCalibration c;
+  c.width = 752;
+  c.height = 480;
+  c.fx = c.fy = 460;
+  c.cx = 376;
+  c.cy = 240;
+  c.rate_hz = rate_hz;
+  c.distortion = std::move(distortion);
+  return c;
+}
+
+TEST(RunConfigChoice, SensorClassFromRateAndDistortion) {
+  const std::vector<double> radtan{-0.28, 0.07, 2e-4, 2e-5}, none{0, 0, 0, 0};
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan)).name, "euroc.yaml");  // EuRoC cam0
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none)).name, "sim.yaml");      // adugs sim, VIODE
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none)).name, "d435i.yaml");    // D435i IR, OpenLORIS
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan)).name, "d435i.yaml");
+  data::CameraCalibration fisheye = camera(20, none);  // TUM-VI: equidistant, a real lens
+  fisheye.distortion_model = data::DistortionModel::kEquidistant;
+  EXPECT_EQ(app::chooseRunConfig(fisheye).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none)).name, "sim.yaml");    // the boundary: 25 Hz
+  EXPECT_EQ(app::chooseRunConfig(camera(25, none)).name, "d435i.yaml");
+  // Unknown rate (a bag with one image): the EuRoC class, and the reason says so.
+  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none));
+  EXPECT_EQ(unknown.name, "euroc.yaml");
+  EXPECT_NE(unknown.reason.find("rate unknown"), std::string::npos) << unknown.reason;
+}
+
+// The built-in texts are the files of data/config/ byte for byte, and each loads into the values
+// the file states (a broken embedding or a reader change would fail here, not in a user's run).
+TEST(RunConfigChoice, BuiltInConfigsAreTheFilesOfDataConfig) {
+  const fs::path dir = fs::path(ADUGS_SOURCE_DIR) / "data" / "config";
+  for (const char* name : {"euroc.yaml", "sim.yaml", "d435i.yaml", "presets/tum-vi/imu.yaml"})
+    EXPECT_EQ(data::builtinConfigText(name), readFile(dir / name)) << name;
+  EXPECT_EQ(data::builtinConfigText("nothing.yaml"), "");
+
+  const std::vector<double> radtan{-0.28, 0.07, 2e-4, 2e-5}, none{0, 0, 0, 0};
+  for (const auto& [cam, file] : {std::pair{camera(20, radtan), "euroc.yaml"}, std::pair{camera(20, none), "sim.yaml"},
+                                  std::pair{camera(30, none), "d435i.yaml"}}) {
+    std::string described;
+    const app::RunConfig built_in = app::runConfigFor("", cam, &described);
+    const app::RunConfig from_file = app::loadRunConfig((dir / file).string());
+    EXPECT_EQ(described.rfind(std::string("data/config/") + file + " (built in; ", 0), 0u) << described;
+    EXPECT_EQ(built_in.estimator.window_size, from_file.estimator.window_size) << file;
+    EXPECT_EQ(built_in.estimator.outlier_reprojection_px, from_file.estimator.outlier_reprojection_px) << file;
+    EXPECT_EQ(built_in.estimator.estimate_time_offset, from_file.estimator.estimate_time_offset) << file;
+    EXPECT_EQ(built_in.tracker.max_features, from_file.tracker.max_features) << file;
+  }
+  // The classes differ where the files do (else the choice would be for nothing).
+  std::string d;
+  EXPECT_TRUE(app::runConfigFor("", camera(30, none), &d).estimator.estimate_time_offset);
+  EXPECT_FALSE(app::runConfigFor("", camera(20, radtan), &d).estimator.estimate_time_offset);
+  EXPECT_EQ(app::runConfigFor("", camera(20, none), &d).estimator.outlier_reprojection_px, 1.5);
+  EXPECT_EQ(app::runConfigFor("", camera(20, radtan), &d).estimator.outlier_reprojection_px, 3.0);
+}
+
+// A user's --config wins, and is what the summary names.
+TEST(RunConfigChoice, TheUsersConfigWins) {
+  TempDir dir("adugs_run_config");
+  writeText(dir / "mine.yaml", "estimator:\n  window_size: 12\n");
+  std::string described;
+  const app::RunConfig c = app::runConfigFor((dir / "mine.yaml").string(), camera(30, {0, 0, 0, 0}), &described);
+  EXPECT_EQ(c.estimator.window_size, 12);
+  EXPECT_EQ(described, (dir / "mine.yaml").string());
+}
+
+// End to end: `adugs run` on a simulated sequence says which config it took, at the start and in
+// the summary; a 30 Hz one takes the D435i class's.
+TEST(RunConfigChoice, AdugsRunPrintsAndRecordsTheChosenConfig) {
+  TempDir dir("adugs_run_config");
+  std::string log;
+  ASSERT_EQ(runAdugs("sim --scene room --level none --seed 2 --duration 4 --rate 30 --out " + (dir / "seq30").string(), &log), 0)
+      << log;
+  ASSERT_EQ(runAdugs("run " + (dir / "seq30").string() + " --out " + (dir / "out").string(), &log), 0) << log;
+  EXPECT_NE(log.find("run: config data/config/d435i.yaml (built in; 30 Hz camera"), std::string::npos) << log;
+  const std::string summary = readFile(dir / "out" / "summary.yaml");
+  EXPECT_NE(summary.find("config: \"data/config/d435i.yaml (built in;"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("time_offset_estimated: true"), std::string::npos) << summary;
+  EXPECT_GT(data::readTrajectory((dir / "out" / "trajectory.tum").string()).size(), 60u);
+}
+
+}  // namespace
+}  // namespace adugs::test
