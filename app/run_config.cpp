@@ -93,26 +93,27 @@ RunConfig loadRunConfig(const std::string& path) {
   return readRunConfig(r);
 }
 
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera) {
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated) {
   std::ostringstream what;
   what << camera.rate_hz << " Hz camera";
   const bool ideal_pinhole =
       camera.distortion_model == data::DistortionModel::kRadialTangential &&
       std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; });
+  if (simulated) return {"sim.yaml", "written by adugs sim with a simulated IMU: the simulator class"};
   if (camera.rate_hz >= 25.0) return {"d435i.yaml", what.str() + ": the RealSense D435i class (30 Hz)"};
   if (!(camera.rate_hz > 0))
     return {"euroc.yaml", "camera rate unknown: the EuRoC class (global shutter, 20 Hz)"};
   if (ideal_pinhole)
-    return {"sim.yaml", what.str() + " without distortion: the simulator class (rendered images, adugs sim, VIODE)"};
+    return {"sim.yaml", what.str() + " without lens distortion: the simulator class (rendered images, e.g. VIODE)"};
   return {"euroc.yaml", what.str() + " with lens distortion: the EuRoC class (global shutter, 20 Hz)"};
 }
 
-RunConfig runConfigFor(const std::string& path, const data::CameraCalibration& camera, std::string* described) {
+RunConfig runConfigFor(const std::string& path, const data::OpenedSequence& sequence, std::string* described) {
   if (!path.empty()) {
     *described = path;
     return loadRunConfig(path);
   }
-  const RunConfigChoice choice = chooseRunConfig(camera);
+  const RunConfigChoice choice = chooseRunConfig(sequence.camera, sequence.simulated);
   const std::string text = data::builtinConfigText(choice.name);
   if (text.empty()) throw std::logic_error("data/config/" + choice.name + " is not built into this adugs");
   *described = "data/config/" + choice.name + " (built in; " + choice.reason + ")";

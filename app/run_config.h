@@ -48,17 +48,19 @@ void applyPlaybackConfig(const data::PlaybackOptions& config, bool window_given,
 RunConfig loadRunConfig(const std::string& path);  // "" = the defaults in code
 
 // The config `adugs run` / `adugs live` use without --config: one per sensor class in data/config/
-// (built into the binary), chosen from the sequence's camera rate and model:
-//   d435i.yaml  a camera at 25 Hz or more (RealSense D435i: 30 Hz, rolling IMU clock: td online)
-//   sim.yaml    slower and without lens distortion: rendered images (adugs sim, VIODE)
-//   euroc.yaml  slower with distortion, or rate unknown: global-shutter cameras at ~20 Hz
+// (built into the binary), chosen from what the sequence says about its camera:
+//   sim.yaml    a folder written by `adugs sim` with a simulated IMU (its camera has EuRoC's lens
+//               distortion, so only the folder tells; hybrid folders, real IMU, go by their
+//               camera), or a camera below 25 Hz without lens distortion (rendered images: VIODE)
+//   d435i.yaml  a camera at 25 Hz or more (RealSense D435i: 30 Hz; td estimated online)
+//   euroc.yaml  below 25 Hz with lens distortion (EuRoC, TUM-VI), or rate unknown
 struct RunConfigChoice {
   std::string name;    // file name in data/config/
   std::string reason;  // why, for the start-of-run line and the summary
 };
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera);
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated);
 // The user's --config file when given, else the sensor class's built-in one; `described` says
 // which (and why) for the start-of-run line and the summary.
-RunConfig runConfigFor(const std::string& config_path, const data::CameraCalibration& camera, std::string* described);
+RunConfig runConfigFor(const std::string& config_path, const data::OpenedSequence& sequence, std::string* described);
 
 }  // namespace adugs::app

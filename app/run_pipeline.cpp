@@ -155,7 +155,7 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
 
 void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   std::string config_used;
-  const RunConfig config = runConfigFor(a.config_path, sequence.camera, &config_used);
+  const RunConfig config = runConfigFor(a.config_path, sequence, &config_used);
   if (!a.quiet) std::cerr << a.command << ": config " << config_used << "\n";
   fs::create_directories(a.out_dir);
   const std::string traj_path = sequence.has_imu ? (fs::path(a.out_dir) / "trajectory.tum").string() : "";

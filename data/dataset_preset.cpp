@@ -1,6 +1,8 @@
 #include "data/dataset_preset.h"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "data/builtin_config.h"
 #include "data/euroc_reader.h"
@@ -102,6 +104,12 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
   const fs::path masks = fs::path(reader->mavDir()) / "mask0" / "data";
   std::error_code ec;
   if (fs::is_directory(masks, ec)) s.mask_dir = masks.string();
+  const fs::path sim = fs::path(reader->mavDir()) / "sim.yaml";
+  if (fs::is_regular_file(sim, ec)) {
+    std::ifstream in(sim);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    s.simulated = text.find("\nmode: synthetic\n") != std::string::npos;
+  }
   s.source = std::move(reader);
   return s;
 }

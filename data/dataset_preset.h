@@ -45,6 +45,9 @@ struct OpenedSequence {
   bool has_imu = true;   // false: a camera alone (video, webcam): vision only, no odometry
   std::string gt_path;   // ground-truth file to evaluate against ("" if none)
   std::string mask_dir;  // the simulator's per-frame dynamic masks (ASL folders only; "" if none)
+  // An ASL folder written by `adugs sim` with simulated IMU data (mav0/sim.yaml, mode: synthetic);
+  // a hybrid one (rendered images along a real flight's IMU) is not.
+  bool simulated = false;
   std::string calibration_from;  // where the calibration came from, for the run summary
   size_t gt_duplicates_dropped = 0;
 };

@@ -27,19 +27,28 @@ data::CameraCalibration camera(double rate_hz, std::vector<double> distortion) {
 
 TEST(RunConfigChoice, SensorClassFromRateAndDistortion) {
   const std::vector<double> radtan{-0.28, 0.07, 2e-4, 2e-5}, none{0, 0, 0, 0};
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan)).name, "euroc.yaml");  // EuRoC cam0
-  EXPECT_EQ(app::chooseRunConfig(camera(20, none)).name, "sim.yaml");      // adugs sim, VIODE
-  EXPECT_EQ(app::chooseRunConfig(camera(30, none)).name, "d435i.yaml");    // D435i IR, OpenLORIS
-  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan)).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false).name, "euroc.yaml");  // EuRoC cam0
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false).name, "sim.yaml");      // adugs sim, VIODE
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false).name, "d435i.yaml");    // D435i IR, OpenLORIS
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), false).name, "d435i.yaml");
   data::CameraCalibration fisheye = camera(20, none);  // TUM-VI: equidistant, a real lens
   fisheye.distortion_model = data::DistortionModel::kEquidistant;
-  EXPECT_EQ(app::chooseRunConfig(fisheye).name, "euroc.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none)).name, "sim.yaml");    // the boundary: 25 Hz
-  EXPECT_EQ(app::chooseRunConfig(camera(25, none)).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(fisheye, false).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none), false).name, "sim.yaml");    // the boundary: 25 Hz
+  EXPECT_EQ(app::chooseRunConfig(camera(25, none), false).name, "d435i.yaml");
   // Unknown rate (a bag with one image): the EuRoC class, and the reason says so.
-  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none));
+  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none), false);
   EXPECT_EQ(unknown.name, "euroc.yaml");
   EXPECT_NE(unknown.reason.find("rate unknown"), std::string::npos) << unknown.reason;
+  // A folder of `adugs sim` has EuRoC's lens distortion (and may run at 30 Hz): the folder tells.
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), true).name, "sim.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), true).name, "sim.yaml");
+}
+
+data::OpenedSequence sequenceWith(const data::CameraCalibration& c) {
+  data::OpenedSequence s;
+  s.camera = c;
+  return s;
 }
 
 // The built-in texts are the files of data/config/ byte for byte, and each loads into the values
@@ -54,7 +63,7 @@ TEST(RunConfigChoice, BuiltInConfigsAreTheFilesOfDataConfig) {
   for (const auto& [cam, file] : {std::pair{camera(20, radtan), "euroc.yaml"}, std::pair{camera(20, none), "sim.yaml"},
                                   std::pair{camera(30, none), "d435i.yaml"}}) {
     std::string described;
-    const app::RunConfig built_in = app::runConfigFor("", cam, &described);
+    const app::RunConfig built_in = app::runConfigFor("", sequenceWith(cam), &described);
     const app::RunConfig from_file = app::loadRunConfig((dir / file).string());
     EXPECT_EQ(described.rfind(std::string("data/config/") + file + " (built in; ", 0), 0u) << described;
     EXPECT_EQ(built_in.estimator.window_size, from_file.estimator.window_size) << file;
@@ -64,10 +73,10 @@ TEST(RunConfigChoice, BuiltInConfigsAreTheFilesOfDataConfig) {
   }
   // The classes differ where the files do (else the choice would be for nothing).
   std::string d;
-  EXPECT_TRUE(app::runConfigFor("", camera(30, none), &d).estimator.estimate_time_offset);
-  EXPECT_FALSE(app::runConfigFor("", camera(20, radtan), &d).estimator.estimate_time_offset);
-  EXPECT_EQ(app::runConfigFor("", camera(20, none), &d).estimator.outlier_reprojection_px, 1.5);
-  EXPECT_EQ(app::runConfigFor("", camera(20, radtan), &d).estimator.outlier_reprojection_px, 3.0);
+  EXPECT_TRUE(app::runConfigFor("", sequenceWith(camera(30, none)), &d).estimator.estimate_time_offset);
+  EXPECT_FALSE(app::runConfigFor("", sequenceWith(camera(20, radtan)), &d).estimator.estimate_time_offset);
+  EXPECT_EQ(app::runConfigFor("", sequenceWith(camera(20, none)), &d).estimator.outlier_reprojection_px, 1.5);
+  EXPECT_EQ(app::runConfigFor("", sequenceWith(camera(20, radtan)), &d).estimator.outlier_reprojection_px, 3.0);
 }
 
 // A user's --config wins, and is what the summary names.
@@ -75,18 +84,28 @@ TEST(RunConfigChoice, TheUsersConfigWins) {
   TempDir dir("adugs_run_config");
   writeText(dir / "mine.yaml", "estimator:\n  window_size: 12\n");
   std::string described;
-  const app::RunConfig c = app::runConfigFor((dir / "mine.yaml").string(), camera(30, {0, 0, 0, 0}), &described);
+  const app::RunConfig c = app::runConfigFor((dir / "mine.yaml").string(), sequenceWith(camera(30, {0, 0, 0, 0})), &described);
   EXPECT_EQ(c.estimator.window_size, 12);
   EXPECT_EQ(described, (dir / "mine.yaml").string());
 }
 
-// End to end: `adugs run` on a simulated sequence says which config it took, at the start and in
-// the summary; a 30 Hz one takes the D435i class's.
+// End to end: `adugs run` says which config it took, at the start and in the summary: a folder of
+// `adugs sim` takes the simulator's; the same 30 Hz images with a real IMU (a hybrid folder) the
+// D435i class's, with the time offset estimated online.
 TEST(RunConfigChoice, AdugsRunPrintsAndRecordsTheChosenConfig) {
   TempDir dir("adugs_run_config");
   std::string log;
   ASSERT_EQ(runAdugs("sim --scene room --level none --seed 2 --duration 4 --rate 30 --out " + (dir / "seq30").string(), &log), 0)
       << log;
+  ASSERT_EQ(runAdugs("run " + (dir / "seq30").string() + " --out " + (dir / "sim").string(), &log), 0) << log;
+  EXPECT_NE(log.find("run: config data/config/sim.yaml (built in; written by adugs sim with a simulated IMU"), std::string::npos) << log;
+  EXPECT_NE(readFile(dir / "sim" / "summary.yaml").find("config: \"data/config/sim.yaml (built in;"), std::string::npos);
+
+  // The same folder as a hybrid one (rendered images along a real IMU's flight) goes by its camera.
+  const fs::path sim_yaml = dir / "seq30" / "mav0" / "sim.yaml";
+  std::string text = readFile(sim_yaml);
+  ASSERT_NE(text.find("\nmode: synthetic\n"), std::string::npos) << text;
+  writeText(sim_yaml, text.replace(text.find("\nmode: synthetic\n"), 17, "\nmode: hybrid\n"));
   ASSERT_EQ(runAdugs("run " + (dir / "seq30").string() + " --out " + (dir / "out").string(), &log), 0) << log;
   EXPECT_NE(log.find("run: config data/config/d435i.yaml (built in; 30 Hz camera"), std::string::npos) << log;
   const std::string summary = readFile(dir / "out" / "summary.yaml");
