@@ -19,6 +19,8 @@ IioScanType parseIioScanType(const std::string& text_in, const std::string& file
     throw InputError(file, 0, "type", "'" + text + "': " + what +
                                           " (expected e.g. le:s16/32>>0: endianness, sign, real/storage bits, shift)");
   };
+  // sscanf's %u takes "-1" as 4294967295, which would wrap the bit checks below.
+  if (text.find_first_of("-+ ") != std::string::npos) return fail("not an IIO scan type");
   IioScanType t;
   char endian[3] = {0, 0, 0};
   char sign = 0;
@@ -38,7 +40,7 @@ IioScanType parseIioScanType(const std::string& text_in, const std::string& file
   if (sign != 's' && sign != 'u') return fail("sign must be s or u");
   if (storage != 8 && storage != 16 && storage != 32 && storage != 64) return fail("storage bits must be 8, 16, 32 or 64");
   if (real == 0 || real > storage) return fail("real bits must be 1..storage bits");
-  if (shift + real > storage) return fail("shift + real bits exceed the storage bits");
+  if (shift > storage - real) return fail("shift + real bits exceed the storage bits");
   if (repeat == 0 || repeat > 64) return fail("repeat must be 1..64");
   t.big_endian = endian[0] == 'b';
   t.is_signed = sign == 's';

@@ -179,7 +179,9 @@ TEST(IioScan, ParsesScanTypes) {
   t = parseIioScanType("le:s16/16X3>>0", "f");
   EXPECT_EQ(t.repeat, 3);
   for (const char* bad : {"", "le:s16/32", "xe:s16/32>>0", "le:q16/32>>0", "le:s33/32>>0", "le:s16/24>>0",
-                          "le:s16/16>>4", "le:s16/32>>0 junk", "lle:s16/32>>0"}) {
+                          "le:s16/16>>4", "le:s16/32>>0 junk", "lle:s16/32>>0",
+                          // negative numbers, which %u reads as huge ones (shift -1 wrapped the check)
+                          "le:s2/8>>-1", "le:s-1/8>>0", "le:s8/8X-1>>0", "le:s+8/8>>0"}) {
     try {
       parseIioScanType(bad, "/sys/bus/iio/devices/iio:device1/scan_elements/in_accel_x_type");
       ADD_FAILURE() << "accepted '" << bad << "'";
