@@ -13,6 +13,7 @@
 
 #include "app/pipeline/channel.h"
 #include "app/pipeline/stop_signal.h"
+#include "app/source_lost.h"
 #include "data/asl_writer.h"
 #include "data/atomic_file.h"
 #include "data/csv_reader.h"
@@ -156,6 +157,9 @@ void recordToAsl(data::OpenedSequence& sequence, const AslRecordOptions& a) {
                              " frames behind (slow disk?), " + std::to_string(c.csv_frames) + " frames in cam0/data.csv, " +
                              std::to_string(c.image_files) + " images, of " + std::to_string(c.frames_acquired.load()) +
                              " acquired (see " + (fs::path(a.out_dir) / "record.yaml").string() + ")");
+  if (stopped.empty() && !why.empty())
+    throw SourceLost("the live source ended by itself: " + why + "; everything acquired until then is written in " +
+                     mav.string());
 }
 
 }  // namespace adugs::app

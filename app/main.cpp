@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/source_lost.h"
 #include "calib/calibration_verdict.h"
 #include "calib/solver_outcome.h"
 #include "data/input_error.h"
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
   } catch (const adugs::calib::CalibrationFailed& e) {
     std::cerr << "adugs: calibration failed: " << e.what() << "\n";
     return adugs::calib::kExitCalibrationFailed;
+  } catch (const adugs::app::SourceLost& e) {
+    std::cerr << "adugs: " << e.what() << "\n";
+    return adugs::app::kExitSourceLost;
   } catch (const std::exception& e) {
     std::cerr << "adugs: error: " << e.what() << "\n";
     return 1;

@@ -9,6 +9,7 @@
 #include "app/pipeline/pipeline.h"
 #include "app/run_config.h"
 #include "app/run_report.h"
+#include "app/source_lost.h"
 #include "data/input_error.h"
 #include "vio/estimator/sliding_window_estimator.h"
 
@@ -181,6 +182,8 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   writeRunOutputs(a.out_dir, sequence.has_imu ? "vio" : "none", traj_path,
                   r.end == PipelineResult::End::kError ? "" : sequence.gt_path, stats);
   if (r.error) std::rethrow_exception(r.error);
+  if (r.end == PipelineResult::End::kEndOfSource && r.live && !r.why.empty())
+    throw SourceLost("the live source ended by itself: " + r.why + "; every output is written in " + a.out_dir);
 }
 
 }  // namespace adugs::app

@@ -11,12 +11,14 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 #include <thread>
 
 #include "app/asl_recorder.h"
 #include "app/live/live_sources.h"
 #include "app/run_pipeline.h"
+#include "app/source_lost.h"
 #include "tests/app/live/fake_d435i.h"
 #include "tests/test_support.h"
 
@@ -60,21 +62,27 @@ int runD435iCommand(const fs::path& device_root, const std::string& config, cons
       std::this_thread::sleep_for(std::chrono::duration<double>(run.unplug_camera_after_s));
       fake.unplugCamera();
     });
-  if (run.record) {
-    app::AslRecordOptions o;
-    o.out_dir = out.string();
-    app::recordToAsl(sequence, o);
-  } else {
-    app::PipelineRunArgs p;
-    p.command = "live";
-    p.out_dir = out.string();
-    p.config_path = config;
-    app::runPipeline(sequence, p);
+  int exit_code = 0;
+  try {
+    if (run.record) {
+      app::AslRecordOptions o;
+      o.out_dir = out.string();
+      app::recordToAsl(sequence, o);
+    } else {
+      app::PipelineRunArgs p;
+      p.command = "live";
+      p.out_dir = out.string();
+      p.config_path = config;
+      app::runPipeline(sequence, p);
+    }
+  } catch (const app::SourceLost& e) {  // as main() turns it into the exit code
+    std::cerr << "adugs: " << e.what() << "\n";
+    exit_code = app::kExitSourceLost;
   }
   if (unplug.joinable()) unplug.join();
   sequence.source.reset();  // the camera's controls put back before the device goes
   fake.stop();
-  return 0;
+  return exit_code;
 }
 
 // Poses in a TUM trajectory (lines that are not comments).
@@ -123,19 +131,20 @@ TEST(D435iLive, RunsThePipelineOnTheCameraAndStopsCleanlyOnSigint) {
   EXPECT_NE(readFile(log).find("live: stopped (SIGINT)"), std::string::npos) << readFile(log);
 }
 
-TEST(D435iLive, ACameraUnpluggedMidRunEndsTheRunWithItsOutputsAndSaysWhy) {
+TEST(D435iLive, ACameraUnpluggedMidRunEndsTheRunWithItsOutputsSaysWhyAndExitsWith4) {
   TempDir dir("adugs_d435i_live");
   const std::string config = configForFakeTree(dir.path(), dir / "device");
   const fs::path out = dir / "out", log = dir / "live.log";
   ChildRun run;
   run.unplug_camera_after_s = 3;
   AdugsProcess child([&] { return runD435iCommand(dir / "device", config, out, run); }, log);
-  ASSERT_EQ(child.wait(std::chrono::seconds(40)), 0) << readFile(log);
+  ASSERT_EQ(child.wait(std::chrono::seconds(40)), app::kExitSourceLost) << readFile(log);
   const fs::path summary = out / "summary.yaml";
   EXPECT_EQ(summaryText(summary, "end"), "end_of_source") << readFile(summary);
   EXPECT_NE(summaryText(summary, "end_detail").find("unplugged"), std::string::npos) << readFile(summary);
   EXPECT_GE(summaryNumber(summary, "frames_acquired"), 30);
   EXPECT_NE(readFile(log).find("live: the source ended ("), std::string::npos) << readFile(log);
+  EXPECT_NE(readFile(log).find("adugs: the live source ended by itself: "), std::string::npos) << readFile(log);
   EXPECT_EQ(static_cast<double>(poses(out / "trajectory.tum")), summaryNumber(summary, "poses"));
 }
 
@@ -148,7 +157,8 @@ TEST(D435iLive, RecordWritesAnAslFolderThatAdugsRunReadsBack) {
   run.record = true;
   run.unplug_camera_after_s = 2.5;
   AdugsProcess child([&] { return runD435iCommand(dir / "device", config, rec, run); }, log);
-  ASSERT_EQ(child.wait(std::chrono::seconds(40)), 0) << readFile(log);
+  // Everything acquired is written, and the exit code says the camera went away.
+  ASSERT_EQ(child.wait(std::chrono::seconds(40)), app::kExitSourceLost) << readFile(log);
   const fs::path record = rec / "record.yaml";
   EXPECT_EQ(summaryText(record, "complete"), "true") << readFile(record);
   EXPECT_NE(summaryText(record, "end_detail").find("unplugged"), std::string::npos) << readFile(record);
