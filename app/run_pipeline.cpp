@@ -5,11 +5,13 @@
 #include <iostream>
 #include <numeric>
 #include <sstream>
+#include <vector>
 
 #include "app/pipeline/pipeline.h"
 #include "app/run_config.h"
 #include "app/run_report.h"
 #include "app/source_lost.h"
+#include "calib/calibration_verdict.h"
 #include "data/input_error.h"
 #include "vio/estimator/sliding_window_estimator.h"
 
@@ -66,6 +68,14 @@ PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSeque
   return o;
 }
 
+// The user's Kalibr files that `adugs calib` wrote with the verdict weak (their first line says so).
+std::vector<std::string> weakCalibrationFiles(const data::OpenedSequence& sequence) {
+  std::vector<std::string> weak;
+  for (const std::string& file : sequence.user_calibration_files)
+    if (calib::writtenVerdict(file) == calib::Verdict::kWeak) weak.push_back(file);
+  return weak;
+}
+
 // The lines of summary.yaml after writeRunOutputs' common ones.
 std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, const data::OpenedSequence& sequence,
                          const RunConfig& config, const PipelineRunArgs& a) {
@@ -73,8 +83,14 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
   const data::SourceCounts& counts = r.source_counts;
   std::ostringstream out;
   out << "source: \"" << sequence.source->description() << "\"\n"
-      << "calibration: \"" << sequence.calibration_from << "\"\n"
-      << "late_messages_dropped: " << counts.late_dropped << "\n"
+      << "calibration: \"" << sequence.calibration_from << "\"\n";
+  const std::vector<std::string> weak = weakCalibrationFiles(sequence);
+  if (!weak.empty()) {  // a flow list of the files
+    out << "calibration_weak: [";
+    for (size_t i = 0; i < weak.size(); ++i) out << (i ? ", \"" : "\"") << weak[i] << "\"";
+    out << "]\n";
+  }
+  out << "late_messages_dropped: " << counts.late_dropped << "\n"
       << "imu_samples_dropped: " << counts.imu_dropped << "\n"
       << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
       << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
@@ -158,6 +174,11 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   std::string config_used;
   const RunConfig config = runConfigFor(a.config_path, sequence, &config_used);
   if (!a.quiet) std::cerr << a.command << ": config " << config_used << "\n";
+  // Said even with -q: a weak calibration limits every pose of the run.
+  for (const std::string& file : weakCalibrationFiles(sequence))
+    std::cerr << "WARNING: " << a.command << ": " << file
+              << ": adugs calib marked this calibration WEAK (the reasons and what to record next are at the top "
+                 "of the file); the poses are only as good as it\n";
   fs::create_directories(a.out_dir);
   const std::string traj_path = sequence.has_imu ? (fs::path(a.out_dir) / "trajectory.tum").string() : "";
   Pipeline pipeline(*sequence.source, sequence.camera, pipelineOptions(config, sequence, a, traj_path));

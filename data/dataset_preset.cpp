@@ -55,6 +55,7 @@ struct Calibration {
   std::optional<KalibrCamera> camera;
   std::optional<KalibrImu> imu;
   std::string from;
+  std::vector<std::string> user_files;
 };
 
 // User Kalibr files first, then the preset's built-in ones.
@@ -64,6 +65,7 @@ Calibration loadCalibration(const PlaybackOptions& o, const Preset& preset) {
   if (!o.kalibr_camchain.empty()) {
     c.camera = readKalibrCamchain(o.kalibr_camchain);
     camera_from = o.kalibr_camchain;
+    c.user_files.push_back(o.kalibr_camchain);
   } else if (*preset.calibration) {
     const std::string name = std::string("preset ") + preset.calibration + " camchain-imucam.yaml";
     c.camera = parseKalibrCamchain(presetCalibrationText(preset.calibration, "camchain-imucam.yaml"), name);
@@ -72,6 +74,7 @@ Calibration loadCalibration(const PlaybackOptions& o, const Preset& preset) {
   if (!o.kalibr_imu.empty()) {
     c.imu = readKalibrImu(o.kalibr_imu);
     imu_from = o.kalibr_imu;
+    c.user_files.push_back(o.kalibr_imu);
   } else if (*preset.calibration) {
     const std::string name = std::string("preset ") + preset.calibration + " imu.yaml";
     c.imu = parseKalibrImu(presetCalibrationText(preset.calibration, "imu.yaml"), name);
@@ -186,6 +189,7 @@ OpenedSequence openSequence(const PlaybackOptions& o, const std::string& out_dir
   const Calibration calib = loadCalibration(o, preset);
   OpenedSequence s = preset.bag ? openBagSequence(o, preset, calib, out_dir) : openFolder(o, calib);
   s.calibration_from = calib.from;
+  s.user_calibration_files = calib.user_files;
   if (o.start_ns < 0 || o.duration_ns < 0)
     throw InputError("--start/--duration", 0, "start", "must not be negative");
   if (o.start_ns > 0 || o.duration_ns > 0 || o.realtime)

@@ -49,6 +49,7 @@ struct OpenedSequence {
   // a hybrid one (rendered images along a real flight's IMU) is not.
   bool simulated = false;
   std::string calibration_from;  // where the calibration came from, for the run summary
+  std::vector<std::string> user_calibration_files;  // the user's Kalibr files it was read from
   size_t gt_duplicates_dropped = 0;
 };
 

@@ -12,6 +12,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "calib/calibration_verdict.h"
 #include "data/dataset_preset.h"
 #include "data/euroc_sensor_yaml.h"
 #include "data/kalibr_calibration.h"
@@ -134,6 +135,34 @@ TEST_F(CmdPlayback, StartAndDurationPlayPartOfTheSequence) {
             0)
       << log;
   EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.95);
+}
+
+// A camchain that `adugs calib` wrote with the verdict weak: the run uses it, says so on stderr
+// even with -q, and lists it in summary.yaml; the same file without the verdict is not flagged.
+TEST_F(CmdPlayback, ACalibrationMarkedWeakIsUsedWithAWarningAndNamedInTheSummary) {
+  TempDir dir;
+  calib::CalibrationVerdict verdict;
+  verdict.add(calib::Verdict::kWeak, "coverage", "the board covered 12 % of the image (bound 40 %)",
+              "move the board into the corners");
+  const fs::path weak = dir / "camchain-weak.yaml";
+  writeText(weak, calib::verdictYamlComment(verdict) + readFile(*dir_ / "kalibr/camchain-imucam.yaml"));
+  const std::string args = " --duration 2 --kalibr-imu " + (*dir_ / "kalibr/imu.yaml").string();
+  std::string log;
+  ASSERT_EQ(runAdugs("run -q " + asl() + args + " --kalibr-camchain " + weak.string() + " --out " +
+                         (dir / "weak").string(),
+                     &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("WARNING: run: " + weak.string() + ": adugs calib marked this calibration WEAK"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(readFile(dir / "weak/summary.yaml").find("calibration_weak: [\"" + weak.string() + "\"]"),
+            std::string::npos)
+      << readFile(dir / "weak/summary.yaml");
+
+  ASSERT_EQ(runAdugs("run -q " + asl() + kalibr() + " --duration 2 --out " + (dir / "ok").string(), &log), 0) << log;
+  EXPECT_EQ(log.find("WARNING"), std::string::npos) << log;
+  EXPECT_EQ(readFile(dir / "ok/summary.yaml").find("calibration_weak"), std::string::npos);
 }
 
 // Rewrites an ASL folder in the TUM-VI layout: mav0/cam0 with 16-bit PNGs and no sensor.yaml,
