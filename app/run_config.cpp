@@ -1,6 +1,7 @@
 #include "app/run_config.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -95,7 +96,7 @@ RunConfig loadRunConfig(const std::string& path) {
 
 RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated) {
   std::ostringstream what;
-  what << camera.rate_hz << " Hz camera";
+  what << std::setprecision(3) << camera.rate_hz << " Hz camera";  // a bag's measured rate: 30.5, not 30.5095
   const bool ideal_pinhole =
       camera.distortion_model == data::DistortionModel::kRadialTangential &&
       std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; });

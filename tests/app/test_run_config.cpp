@@ -6,6 +6,7 @@
 
 #include "app/run_config.h"
 #include "data/builtin_config.h"
+#include "data/dataset_preset.h"
 #include "data/trajectory_io.h"
 #include "tests/test_support.h"
 
@@ -77,6 +78,34 @@ TEST(RunConfigChoice, BuiltInConfigsAreTheFilesOfDataConfig) {
   EXPECT_FALSE(app::runConfigFor("", sequenceWith(camera(20, radtan)), &d).estimator.estimate_time_offset);
   EXPECT_EQ(app::runConfigFor("", sequenceWith(camera(20, none)), &d).estimator.outlier_reprojection_px, 1.5);
   EXPECT_EQ(app::runConfigFor("", sequenceWith(camera(20, radtan)), &d).estimator.outlier_reprojection_px, 3.0);
+}
+
+// A bag written by a real recorder (realsense-ros on a T265, third-party): the Kalibr file gives
+// no rate, so the camera's rate comes from the image topic's record times (30 Hz) and the D435i
+// class (30 Hz settings, time offset online) is chosen.
+TEST(RunConfigChoice, ARealRecordersBagGetsItsRateFromTheImageTopicAndItsClass) {
+  const fs::path bag = sharedDataDir() / "rosbags/kapture_t265/trimmed_locoffice.bag";
+  ADUGS_REQUIRE_SHARED(bag);
+  TempDir dir("adugs_run_config");
+  writeText(dir / "camchain.yaml",
+            "cam0:\n  camera_model: pinhole\n  intrinsics: [286.0, 286.0, 424.0, 400.0]\n"
+            "  distortion_model: equidistant\n  distortion_coeffs: [-0.01, 0.05, -0.05, 0.01]\n"
+            "  resolution: [848, 800]\n  T_cam_imu:\n  - [1.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.0]\n"
+            "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n");
+  writeText(dir / "imu.yaml", data::builtinConfigText("presets/euroc/imu.yaml"));
+  data::PlaybackOptions o;
+  o.dataset = "bag";
+  o.path = bag.string();
+  o.topics.image = "/camera/fisheye1/image_raw";
+  o.topics.accel = "/camera/accel/sample";
+  o.topics.gyro = "/camera/gyro/sample";
+  o.kalibr_camchain = (dir / "camchain.yaml").string();
+  o.kalibr_imu = (dir / "imu.yaml").string();
+  const data::OpenedSequence sequence = data::openSequence(o, dir.path().string());
+  EXPECT_NEAR(sequence.camera.rate_hz, 30.0, 1.5);
+  std::string described;
+  app::runConfigFor("", sequence, &described);
+  EXPECT_EQ(described.rfind("data/config/d435i.yaml (built in; 30.5 Hz camera", 0), 0u) << described;
 }
 
 // A user's --config wins, and is what the summary names.
