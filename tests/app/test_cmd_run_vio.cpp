@@ -271,6 +271,7 @@ TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
                 "time_offset_s");  // > max 0.1 s
   expectRefused("outlier.yaml", "estimator:\n  outlier_reprojection_px: -1\n",
                 "outlier_reprojection_px");
+  expectRefused("init_window.yaml", "estimator:\n  init_window_size: 6\n", "init_window_size");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "vio/estimator/estimator_options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "data/yaml_options.h"
@@ -36,6 +37,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("max_time_offset_s", o->max_time_offset_s, 1e-4, 1.0);
   r.optional("time_offset_warmup_s", o->time_offset_warmup_s, 0.0, 600.0);
   r.optional("init_min_span_s", o->init_min_span_s, 0.0, 30.0);
+  r.optional("init_window_size", o->init_window_size, 4, 40);
   if (std::abs(o->time_offset_s) >= o->max_time_offset_s)
     r.fail("time_offset_s", "must lie within +-max_time_offset_s");
   if (o->max_depth_m <= o->min_depth_m) r.fail("max_depth_m", "must exceed min_depth_m");
@@ -57,6 +59,8 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
     s.finish();
   }
   if (o->init.min_frames > o->window_size) r.fail("init", "init.min_frames exceeds window_size");
+  if (o->init.min_frames > std::min(o->init_window_size, o->window_size))
+    r.fail("init", "init.min_frames exceeds init_window_size");
 }
 
 }  // namespace adugs::vio

@@ -63,6 +63,11 @@ struct EstimatorOptions {
   // speed) underestimated it by 2x on the simulator.
   // (1.5 s: street/none 60 s ATE 0.125 m; 1.0 s: 0.47 m; 2.0 s: 0.20 m.)
   double init_min_span_s = 1.5;
+  // Frames (counted like window_size) the window holds while it waits for the visual-inertial
+  // initialisation; at most window_size. After it the window grows to window_size. A longer SfM
+  // window spans more of the movers' motion: with 15, two of eighteen room/high runs started at
+  // a fifth of the true scale and never recovered (doc/results.md, "The initialisation window").
+  int init_window_size = 10;
   StaticInitOptions static_init;
   InitOptions init;
 };

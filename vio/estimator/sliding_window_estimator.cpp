@@ -51,9 +51,10 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
       imu_options_(imu_options) {
   if (!(focal_px > 0))
     throw std::invalid_argument("SlidingWindowEstimator: focal length must be positive");
-  if (options_.window_size < 4 || options_.init.min_frames > options_.window_size)
+  if (options_.window_size < 4 ||
+      options_.init.min_frames > std::min(options_.init_window_size, options_.window_size))
     throw std::invalid_argument(
-        "SlidingWindowEstimator: window_size must be >= 4 and >= init.min_frames");
+        "SlidingWindowEstimator: window_size must be >= 4, and both it and init_window_size >= init.min_frames");
   if (!(std::abs(options_.time_offset_s) < options_.max_time_offset_s))
     throw std::invalid_argument(
         "SlidingWindowEstimator: time_offset_s must lie within +-max_time_offset_s");
@@ -309,7 +310,7 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     if (!tryInitialize()) {
       // Same window policy as when running (so the window spans enough parallax for the SfM),
       // without marginalisation: nothing is estimated yet.
-      if (static_cast<int>(frames_.size()) > options_.window_size) {
+      if (static_cast<int>(frames_.size()) > std::min(options_.init_window_size, options_.window_size)) {
         const double span_s = data::nsToSec(frames_.back()->t_ns - frames_.front()->t_ns);
         if (span_s < options_.init_min_span_s)
           thinWindow();  // scale needs acceleration, acceleration needs time: spread the frames
