@@ -1,8 +1,6 @@
 #include "data/dataset_preset.h"
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "data/builtin_config.h"
 #include "data/euroc_reader.h"
@@ -11,6 +9,7 @@
 #include "data/playback_controls.h"
 #include "data/rosbag_ground_truth.h"
 #include "data/trajectory_io.h"
+#include "data/yaml_options.h"
 
 namespace adugs::data {
 namespace {
@@ -109,9 +108,10 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
   if (fs::is_directory(masks, ec)) s.mask_dir = masks.string();
   const fs::path sim = fs::path(reader->mavDir()) / "sim.yaml";
   if (fs::is_regular_file(sim, ec)) {
-    std::ifstream in(sim);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    s.simulated = text.find("\nmode: synthetic\n") != std::string::npos;
+    // Only the mode matters here; the other keys (scene, seed, ...) describe how it was made.
+    std::string mode;
+    YamlOptionsReader::fromFile(sim.string()).optional("mode", mode);
+    s.simulated = mode == "synthetic";
   }
   s.source = std::move(reader);
   return s;

@@ -14,13 +14,15 @@
 #          [--levels "none low mid high"] [--duration 20] [--detector MODEL] [--jobs N]
 #          [--sam-encoder E.pt --sam-decoder D.pt] [--no-heatmap] [--results doc/results.md]
 #          [--ablation-levels "mid high"] [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]...
-#          [--candidate-levels "mid high"] [--no-ablation]
+#          [--candidate-levels "mid high"] [--no-ablation] [--class-config data/config/sim.yaml]
 # --results: writes the tables and the heatmap into that file (between the bench_dynamic markers)
 # and doc/images/; without it they are in DIR/report.md and DIR/heatmap.png.
 # --ablation-levels: the levels of the SORT ablation's runs (default: all); --no-ablation: none.
 # --candidate: one more detector-chain column with other masker settings (keys of the run config's
 # `dynamic:` map, e.g. `--candidate age20=max_age:20`), run on --candidate-levels (default: all)
 # and compared with the default chain seed by seed on the same sequences.
+# --class-config: every run starts from this run config (e.g. the simulator class's, which a run
+# without --config takes) instead of the defaults in code; the options above go on top of it.
 # ADUGS=path/to/adugs runs another binary (e.g. a copy, so that rebuilding does not change a
 # running benchmark).
 set -euo pipefail
@@ -34,6 +36,7 @@ duration=20
 detector="$root/../shared/models/yolox_nano/yolox_nano.onnx"
 jobs=$(nproc)
 sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels="" ablation=1
+class_config=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -51,6 +54,7 @@ while [ $# -gt 0 ]; do
     --candidate) candidates="$candidates $2"; shift 2 ;;
     --candidate-levels) candidate_levels="$2"; shift 2 ;;
     --ablation-levels) ablation_levels="$2"; shift 2 ;;
+    --class-config) class_config="$2"; shift 2 ;;
     *) echo "bench_dynamic: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -62,16 +66,29 @@ mkdir -p "$out/seq" "$out/runs" "$out/configs"
 # Run configs. Every run lifts the estimator's wall-clock guard (max_solver_time_s, 0.2 s by
 # default): on a loaded machine it cuts solves short by timing, which would make the ATE depend on
 # the load instead of the method (the tests lift it for the same reason); each run is then
-# deterministic. base.yaml for the plain runs, the ablations and the heatmap grid on top of it.
-guard='estimator:\n  max_solver_time_s: 10\n'
-printf "$guard" > "$out/configs/base.yaml"
-printf "${guard}dynamic:\n  noise: fixed\n" > "$out/configs/fixed_r.yaml"
-printf "${guard}dynamic:\n  tracker: none\n" > "$out/configs/no_sort.yaml"
+# deterministic. base.yaml for the plain runs (the guard in the --class-config file's estimator:
+# map, or alone), the ablations and the heatmap grid on top of it.
+base="$out/configs/base.yaml"
+if [ -n "$class_config" ]; then
+  [ -f "$class_config" ] || { echo "bench_dynamic: --class-config $class_config: no such file" >&2; exit 2; }
+  for key in '^estimator:$' '^tracker:$' '^  max_features: ' '^  min_distance_px: '; do
+    grep -q "$key" "$class_config" ||
+      { echo "bench_dynamic: --class-config $class_config: no line '$key' (the runs change it)" >&2; exit 2; }
+  done
+  ! grep -q '^dynamic:' "$class_config" ||
+    { echo "bench_dynamic: --class-config $class_config: has a dynamic: map (the ablations add theirs)" >&2; exit 2; }
+  sed 's/^estimator:$/estimator:\n  max_solver_time_s: 10/' "$class_config" > "$base"
+else
+  printf 'estimator:\n  max_solver_time_s: 10\ntracker:\n  max_features: 200\n  min_distance_px: 20\n' > "$base"
+fi
+{ cat "$base"; printf "dynamic:\n  noise: fixed\n"; } > "$out/configs/fixed_r.yaml"
+{ cat "$base"; printf "dynamic:\n  tracker: none\n"; } > "$out/configs/no_sort.yaml"
 nmax_values="100 150 200 300"
 dmin_values="10 15 20 30"
 for n in $nmax_values; do
   for d in $dmin_values; do
-    printf "${guard}tracker:\n  max_features: %s\n  min_distance_px: %s\n" "$n" "$d" > "$out/configs/grid_n${n}_d${d}.yaml"
+    sed -e "s/^  max_features: .*/  max_features: $n/" -e "s/^  min_distance_px: .*/  min_distance_px: $d/" "$base" \
+      > "$out/configs/grid_n${n}_d${d}.yaml"
   done
 done
 
@@ -81,7 +98,7 @@ for c in $candidates; do
   name="${c%%=*}" settings="${c#*=}"
   [[ "$c" == *=* && "$name" =~ ^[A-Za-z0-9_]+$ && -n "$settings" ]] ||
     { echo "bench_dynamic: --candidate $c: expected NAME=KEY:VALUE[,KEY:VALUE...]" >&2; exit 2; }
-  { printf "$guard"; echo "dynamic:"; tr ',' '\n' <<< "$settings" | sed 's/^\([^:]*\):/  \1: /'; } > "$out/configs/cand_$name.yaml"
+  { cat "$base"; echo "dynamic:"; tr ',' '\n' <<< "$settings" | sed 's/^\([^:]*\):/  \1: /'; } > "$out/configs/cand_$name.yaml"
   candidate_modes="$candidate_modes cand_$name"
 done
 candidate_levels="${candidate_levels:-$levels}"

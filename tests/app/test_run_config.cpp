@@ -141,6 +141,11 @@ TEST(RunConfigChoice, AdugsRunPrintsAndRecordsTheChosenConfig) {
   EXPECT_NE(summary.find("config: \"data/config/d435i.yaml (built in;"), std::string::npos) << summary;
   EXPECT_NE(summary.find("time_offset_estimated: true"), std::string::npos) << summary;
   EXPECT_GT(data::readTrajectory((dir / "out" / "trajectory.tum").string()).size(), 60u);
+
+  // A sim.yaml that is not YAML is an input error naming it, not a silent guess of the class.
+  writeText(sim_yaml, "mode: [synthetic\n");
+  EXPECT_EQ(runAdugs("run -q " + (dir / "seq30").string() + " --out " + (dir / "bad").string(), &log), 2) << log;
+  EXPECT_NE(log.find("sim.yaml"), std::string::npos) << log;
 }
 
 }  // namespace
