@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <vector>
@@ -55,6 +56,9 @@ PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSeque
   o.tracker = config.tracker;
   o.estimate = sequence.has_imu;
   o.estimator = config.estimator;
+  // The solver's wall-clock guard is for live sources, whose entrance drops frames when the
+  // estimator falls behind; in playback it would only make the poses depend on the machine's load.
+  if (!sequence.source->isLive()) o.estimator.max_solver_time_s = std::numeric_limits<double>::infinity();
   o.imu = imuOptions(sequence.imu_noise);
   o.trajectory_path = trajectory_path;
   o.view.overlay_path = a.overlay;
@@ -105,6 +109,11 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
         << "outliers_rejected: " << es.outliers_rejected << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
         << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - r.first_t_ns) : -1.0) << "\n";
+    if (r.live)
+      out << "solver_time_guard_s: " << config.estimator.max_solver_time_s << "\n";
+    else
+      out << "solver_time_guard_s: none  # playback: every solve runs to max_iterations, whatever the load\n";
+    out << "solves_cut_by_time: " << es.solves_cut_by_time << "\n";
     const Eigen::Isometry3d& T = estimator->extrinsic();
     const Eigen::Isometry3d& T0 = sequence.camera.T_B_C;
     const Eigen::Quaterniond q(T.rotation());

@@ -67,6 +67,8 @@ TEST_F(CmdLive, ReplayGivesTheAccuracyOfRunAndEveryImuSample) {
   const fs::path s = out / "summary.yaml";
   EXPECT_EQ(summaryText(s, "live"), "true");
   EXPECT_EQ(summaryText(s, "end"), "end_of_source");
+  EXPECT_EQ(summaryText(s, "solver_time_guard_s"), "10");  // live: the config's guard applies
+  EXPECT_EQ(summaryText(runSummary(), "solver_time_guard_s").rfind("none  #", 0), 0u);  // playback: none
   const double live_ate = summaryNumber(s, "ate_se3_rmse_m"), run_ate = summaryNumber(runSummary(), "ate_se3_rmse_m");
   std::cout << "ATE live " << live_ate << " m, run " << run_ate << " m; frames dropped "
             << summaryNumber(s, "frames_dropped") << ", lost by the source " << summaryNumber(s, "frames_lost_by_source")

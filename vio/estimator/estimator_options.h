@@ -24,7 +24,9 @@ struct EstimatorOptions {
   // judged. 0 turns it off.
   double outlier_reprojection_px = 3.0;
   int max_iterations = 8;
-  double max_solver_time_s = 0.2;  // a guard only; when it triggers, results depend on machine load
+  // A guard only; when it triggers, results depend on machine load. adugs applies it to live
+  // sources only (app/run_pipeline): playback solves every window to max_iterations.
+  double max_solver_time_s = 0.2;
   double min_depth_m = 0.1, max_depth_m = 80.0;
   double min_triangulation_angle_deg = 1.0;  // rays of a new landmark must meet at least this
   // Zero-velocity updates while stationary (see zero_velocity_factor.h).
