@@ -1,6 +1,7 @@
 #include "app/run_pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -82,13 +83,12 @@ std::vector<std::string> weakCalibrationFiles(const data::OpenedSequence& sequen
 
 // The lines of summary.yaml after writeRunOutputs' common ones.
 std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, const data::OpenedSequence& sequence,
-                         const RunConfig& config, const PipelineRunArgs& a) {
+                         const RunConfig& config, const PipelineRunArgs& a, const std::vector<std::string>& weak) {
   const PipelineStats& s = pipeline.stats();
   const data::SourceCounts& counts = r.source_counts;
   std::ostringstream out;
   out << "source: \"" << sequence.source->description() << "\"\n"
       << "calibration: \"" << sequence.calibration_from << "\"\n";
-  const std::vector<std::string> weak = weakCalibrationFiles(sequence);
   if (!weak.empty()) {  // a flow list of the files
     out << "calibration_weak: [";
     for (size_t i = 0; i < weak.size(); ++i) out << (i ? ", \"" : "\"") << weak[i] << "\"";
@@ -109,8 +109,9 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
         << "outliers_rejected: " << es.outliers_rejected << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
         << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - r.first_t_ns) : -1.0) << "\n";
-    if (r.live)
-      out << "solver_time_guard_s: " << config.estimator.max_solver_time_s << "\n";
+    const double guard_s = estimator->options().max_solver_time_s;  // playback: lifted (pipelineOptions)
+    if (std::isfinite(guard_s))
+      out << "solver_time_guard_s: " << guard_s << "\n";
     else
       out << "solver_time_guard_s: none  # playback: every solve runs to max_iterations, whatever the load\n";
     out << "solves_cut_by_time: " << es.solves_cut_by_time << "\n";
@@ -184,7 +185,8 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   const RunConfig config = runConfigFor(a.config_path, sequence, &config_used);
   if (!a.quiet) std::cerr << a.command << ": config " << config_used << "\n";
   // Said even with -q: a weak calibration limits every pose of the run.
-  for (const std::string& file : weakCalibrationFiles(sequence))
+  const std::vector<std::string> weak = weakCalibrationFiles(sequence);
+  for (const std::string& file : weak)
     std::cerr << "WARNING: " << a.command << ": " << file
               << ": adugs calib marked this calibration WEAK (the reasons and what to record next are at the top "
                  "of the file); the poses are only as good as it\n";
@@ -202,7 +204,7 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   stats.skipped_frames = r.source_counts.skipped_frames;
   stats.sequence_s = s.sequence_s;
   stats.wall_s = r.wall_s;
-  stats.extra_summary = "config: \"" + config_used + "\"\n" + summaryLines(pipeline, r, sequence, config, a);
+  stats.extra_summary = "config: \"" + config_used + "\"\n" + summaryLines(pipeline, r, sequence, config, a, weak);
   if (r.end == PipelineResult::End::kStopped && !a.quiet)
     std::cerr << a.command << ": stopped (" << r.why << ") after " << s.frames
               << " frames; the frames already inside were finished and every output is written\n";

@@ -94,6 +94,7 @@ class SlidingWindowEstimator {
 
   bool initialized() const { return initialized_; }
   const EstimatorStats& stats() const { return stats_; }
+  const EstimatorOptions& options() const { return options_; }  // as in effect (focal set, ...)
   int windowFrames() const { return static_cast<int>(frames_.size()); }
 
  private:
