@@ -105,6 +105,8 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
     const vio::EstimatorStats& es = estimator->stats();
     out << "keyframes: " << es.keyframes << "\n"
         << "resets: " << es.resets << "\n"
+        << "resets_continued: " << es.resets_continued
+        << "  # re-initialised where the IMU carried the last state (estimator: reset_dead_reckoning_max_s)\n"
         << "frames_without_imu: " << es.frames_without_imu << "\n"
         << "outliers_rejected: " << es.outliers_rejected << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"

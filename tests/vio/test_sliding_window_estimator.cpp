@@ -183,11 +183,25 @@ TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
   test::TempDir tmp("adugs_swe_blackout");
   const std::string root = makeSequence(tmp, "none", 8.0);
   // Frames 60..69 (3.0-3.5 s) are black: no features -> failure -> reset, then re-initialise.
-  const PipelineRun run = runPipeline(root, [](int frame, cv::Mat& image) {
+  const auto blackout = [](int frame, cv::Mat& image) {
     if (frame >= 60 && frame < 70) image.setTo(0);
-  });
+  };
+  const PipelineRun run = runPipeline(root, blackout);
   ASSERT_TRUE(run.all_finite);
   EXPECT_GE(run.stats.resets, 1);
+  // The IMU carried the last state through the blackout and the new window was placed there: one
+  // trajectory, as accurate as without the blackout's reset. Without it (option 0) the new window
+  // starts again at the origin with its own heading, and the two pieces do not fit one alignment.
+  EXPECT_EQ(run.stats.resets_continued, run.stats.resets);
+  const EvalResult continued = evaluate(run.trajectory, root);
+  const double continued_m = continued.ate.translation.rmse;
+  PipelineSetup restart;
+  restart.options.reset_dead_reckoning_max_s = 0;
+  const PipelineRun restarted = runPipeline(root, blackout, {}, restart);
+  EXPECT_EQ(restarted.stats.resets_continued, 0);
+  const double restarted_m = evaluate(restarted.trajectory, root).ate.translation.rmse;
+  EXPECT_LT(continued_m, 0.015 * continued.gt_length_m) << "restarted: " << restarted_m;
+  EXPECT_GT(restarted_m, 5 * continued_m);
   EXPECT_NE(run.stats.last_failure.find("too few tracked features"), std::string::npos)
       << run.stats.last_failure;
   // Poses resume after the blackout (re-initialised), none emitted during it.

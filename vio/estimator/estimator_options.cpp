@@ -38,6 +38,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("time_offset_warmup_s", o->time_offset_warmup_s, 0.0, 600.0);
   r.optional("init_min_span_s", o->init_min_span_s, 0.0, 30.0);
   r.optional("init_window_size", o->init_window_size, 4, 40);
+  r.optional("reset_dead_reckoning_max_s", o->reset_dead_reckoning_max_s, 0.0, 600.0);
   if (std::abs(o->time_offset_s) >= o->max_time_offset_s)
     r.fail("time_offset_s", "must lie within +-max_time_offset_s");
   if (o->max_depth_m <= o->min_depth_m) r.fail("max_depth_m", "must exceed min_depth_m");

@@ -70,6 +70,11 @@ struct EstimatorOptions {
   // window spans more of the movers' motion: with 15, two of eighteen room/high runs started at
   // a fifth of the true scale and never recovered (doc/results.md, "The initialisation window").
   int init_window_size = 10;
+  // After a reset (not an IMU gap), the last estimated state is carried by the IMU alone through
+  // the outage; the re-initialised window is placed where it says (position and yaw, which the
+  // new initialisation cannot know), so the trajectory continues instead of restarting at the
+  // origin with an arbitrary heading. Outages longer than this start from the origin as before.
+  double reset_dead_reckoning_max_s = 10.0;  // 0 = off
   StaticInitOptions static_init;
   InitOptions init;
 };

@@ -183,6 +183,7 @@ bool SlidingWindowEstimator::tryInitialize() {
       if (f->imu) f->imu->repropagate(r.accel_bias, r.gyro_bias);
     }
     stats_.init_kind = "static";
+    if (!dead_reckoned_.empty()) continueFromDeadReckoning();
     return true;
   }
   if (static_cast<int>(frames_.size()) < options_.init.min_frames) return false;
@@ -212,6 +213,7 @@ bool SlidingWindowEstimator::tryInitialize() {
   const auto T_W_C = cameraPoses();
   for (const auto& [id, p_W] : r.landmarks_W) landmarks_.setWorldPoint(id, p_W, T_W_C);
   stats_.init_kind = "visual-inertial";
+  if (!dead_reckoned_.empty()) continueFromDeadReckoning();  // host-relative depths: unchanged
   return true;
 }
 
@@ -263,7 +265,8 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     ++stats_.frames_without_imu;
     if (!frames_.empty())
       reset("no IMU sample within " + std::to_string(options_.max_imu_gap_s) + " s of frame " +
-            std::to_string(features.t_ns));
+                std::to_string(features.t_ns),
+            false);
     return std::nullopt;
   }
   if (!frames_.empty()) {
@@ -271,7 +274,8 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     if (gap > max_gap) {
       // Integrating across the hole would invent the motion: start again from this frame.
       reset("IMU gap of " + std::to_string(data::nsToSec(gap)) + " s before frame " +
-            std::to_string(features.t_ns));
+                std::to_string(features.t_ns),
+            false);
     }
   }
 
@@ -297,6 +301,7 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     setSpeedBias(v, prev.ba(), prev.bg(), frame->speed_bias);
   }
   frames_.push_back(std::move(frame));
+  if (!initialized_ && !dead_reckoned_.empty()) deadReckonToNewest();
   const int newest = static_cast<int>(frames_.size()) - 1;
   if (options_.estimate_time_offset)
     landmarks_.addFrame(newest, timeOffsetVelocities(features));
@@ -344,6 +349,7 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
     return std::nullopt;
   }
   const EstimatorState state = stateOf(*frames_.back());
+  last_output_ = state;
   slideWindow();
   return state;
 }
@@ -518,14 +524,62 @@ bool SlidingWindowEstimator::failureDetected(const Eigen::Vector3d& predicted_p,
   return false;
 }
 
-void SlidingWindowEstimator::reset(const std::string& why) {
+void SlidingWindowEstimator::reset(const std::string& why, bool imu_continuous) {
   ++stats_.resets;
+  // What to carry through the outage: the last output state, or (a reset before the first output
+  // since the previous one) the state carried so far.
+  if (!imu_continuous || options_.reset_dead_reckoning_max_s <= 0) {
+    dead_reckoned_.clear();
+  } else if (last_output_) {
+    dead_reckoned_ = {{last_output_->t_ns, *last_output_}};
+  }
+  last_output_.reset();
   stats_.last_failure = why;
   frames_.clear();
   landmarks_.clear();
   prior_.reset();
   initialized_ = false;
   if (!(std::abs(td_) < options_.max_time_offset_s)) td_ = options_.time_offset_s;
+}
+
+void SlidingWindowEstimator::deadReckonToNewest() {
+  const EstimatorState& from = dead_reckoned_.rbegin()->second;
+  const int64_t to_ns = frames_.back()->imuTimeNs();
+  if (to_ns <= from.t_ns) return;
+  if (data::nsToSec(to_ns - dead_reckoned_.begin()->first) > options_.reset_dead_reckoning_max_s) {
+    dead_reckoned_.clear();  // too long on the IMU alone: the next initialisation starts afresh
+    return;
+  }
+  const auto imu = preintegrate(from.t_ns, to_ns, from.accel_bias, from.gyro_bias);
+  const double T = imu->sumDt();
+  const Eigen::Vector3d& g = imu_options_.gravity_W;
+  EstimatorState s = from;
+  s.t_ns = to_ns;
+  s.p_W_B = from.p_W_B + from.v_W * T + 0.5 * g * T * T + from.q_W_B * imu->deltaP();
+  s.v_W = from.v_W + g * T + from.q_W_B * imu->deltaV();
+  s.q_W_B = (from.q_W_B * imu->deltaQ()).normalized();
+  dead_reckoned_[to_ns] = s;
+}
+
+void SlidingWindowEstimator::continueFromDeadReckoning() {
+  const auto it = dead_reckoned_.find(frames_.front()->imuTimeNs());
+  if (it == dead_reckoned_.end()) {
+    dead_reckoned_.clear();
+    return;
+  }
+  // Both worlds have z against gravity: a rotation about z and a shift move the new one onto the
+  // old, so that the oldest window frame lands on its carried pose.
+  const Frame& oldest = *frames_.front();
+  const Eigen::Matrix3d R = it->second.q_W_B.toRotationMatrix() * oldest.q().toRotationMatrix().transpose();
+  const Eigen::Matrix3d R_yaw = Eigen::AngleAxisd(std::atan2(R(1, 0), R(0, 0)), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d p_oldest = oldest.p();
+  for (auto& f : frames_) {
+    const Eigen::Vector3d p = it->second.p_W_B + R_yaw * (f->p() - p_oldest);
+    setPose(p, Eigen::Quaterniond(R_yaw * f->q().toRotationMatrix()).normalized(), f->pose);
+    setSpeedBias(R_yaw * f->v(), f->ba(), f->bg(), f->speed_bias);
+  }
+  ++stats_.resets_continued;
+  dead_reckoned_.clear();
 }
 
 bool SlidingWindowEstimator::secondNewestIsKeyframe() const {

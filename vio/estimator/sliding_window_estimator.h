@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -51,6 +52,7 @@ struct EstimatorStats {
   int frames = 0;
   int keyframes = 0;  // frames that left the window by marginalisation (oldest)
   int resets = 0;
+  int resets_continued = 0;  // of which the re-initialised window continued the trajectory
   int64_t init_t_ns = -1;    // time of the (first) initialisation
   std::string init_kind;     // "static" or "visual-inertial"
   std::string last_failure;  // why the last reset happened
@@ -133,7 +135,8 @@ class SlidingWindowEstimator {
   void rejectOutliers();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);
   bool failureDetected(const Eigen::Vector3d& predicted_p, std::string* why) const;
-  void reset(const std::string& why);
+  // imu_continuous: the IMU stream has no hole, so the last state can be carried through.
+  void reset(const std::string& why, bool imu_continuous = true);
   bool secondNewestIsKeyframe() const;
   void slideWindow();
   void marginalizeOldest();
@@ -153,6 +156,10 @@ class SlidingWindowEstimator {
   FrameFeatures timeOffsetVelocities(const FrameFeatures& features);
   EstimatorState stateOf(const Frame& f) const;
   void dropOldestUninitialized();
+  // After a reset: carries the last output state by the IMU to the newest frame, and places a
+  // fresh initialisation where the carried state is (reset_dead_reckoning_max_s).
+  void deadReckonToNewest();
+  void continueFromDeadReckoning();
 
   EstimatorOptions options_;
   double focal_px_;
@@ -171,6 +178,10 @@ class SlidingWindowEstimator {
   // estimator has been moving for time_offset_warmup_s after it.
   int64_t settled_since_ns_ = 0;
   EstimatorStats stats_;
+  std::optional<EstimatorState> last_output_;
+  // Since a reset: the last output state carried by the IMU to each frame added since, by the
+  // frame's IMU time (empty when there is nothing to carry).
+  std::map<int64_t, EstimatorState> dead_reckoned_;
 };
 
 }  // namespace adugs::vio
