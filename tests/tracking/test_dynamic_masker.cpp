@@ -106,6 +106,30 @@ TEST(DynamicMasker, DetectingEveryThirdFrameCarriesTheMaskBetween) {
   EXPECT_THROW(DynamicMasker(bad, std::make_unique<FilledBoxSegmenter>()), std::invalid_argument);
 }
 
+// ByteTrack's birth rule in the masker's SORT (`dynamic: high_score: 0.5`, off by default): the
+// hand-made case of a room/high run, a 0.35 box over nearly the whole image in two frames, starts
+// no track and masks nothing, while a confident person box beside it is masked; with the rule off
+// (the default, high_score 0) the large box covers most of the image.
+TEST(DynamicMasker, LowScoreBoxesStartNoTrack) {
+  const cv::Mat image(480, 752, CV_8UC1, cv::Scalar(90));
+  const Detection whole{{376, 240, 713, 455}, 0, 0.35};
+  const Detection person{{200, 300, 80, 200}, 0, 0.8};
+  for (double high_score : {0.5, 0.0}) {
+    DynamicMaskerOptions options;
+    options.sort.high_score = high_score;
+    DynamicMasker masker(options, std::make_unique<FilledBoxSegmenter>());
+    DynamicMaskResult r;
+    for (int f = 0; f < 3; ++f) r = masker.process(image, {whole, person});
+    const double fraction = cv::countNonZero(r.mask) / static_cast<double>(image.total());
+    const cv::Rect person_rect(170, 210, 20, 180);  // inside the person's box
+    EXPECT_EQ(cv::countNonZero(r.mask(person_rect)), person_rect.area()) << "high_score " << high_score;
+    if (high_score > 0)
+      EXPECT_LT(fraction, 0.1) << "the low-score box was masked";
+    else
+      EXPECT_GT(fraction, 0.8);
+  }
+}
+
 TEST(DynamicMasker, EmptyFramesGiveAnEmptyMaskAndNullSegmenterIsRefused) {
   DynamicMasker masker(DynamicMaskerOptions{}, std::make_unique<GrabCutSegmenter>());
   const DynamicMaskResult r = masker.process(cv::Mat(48, 64, CV_8UC1, cv::Scalar(90)), {});
