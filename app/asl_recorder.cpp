@@ -14,6 +14,7 @@
 #include "app/pipeline/channel.h"
 #include "app/pipeline/stop_signal.h"
 #include "app/source_lost.h"
+#include "calib/calibration_verdict.h"
 #include "data/asl_writer.h"
 #include "data/atomic_file.h"
 #include "data/csv_reader.h"
@@ -47,8 +48,18 @@ size_t pngFiles(const fs::path& dir) {
 void recordToAsl(data::OpenedSequence& sequence, const AslRecordOptions& a) {
   data::SequenceSource& source = *sequence.source;
   StopSignal stop_signal;
+  // A calibration adugs calib marked weak stays marked in the recording: `adugs run` on the folder
+  // warns as it does with the original file.
+  const std::vector<std::string> weak = calib::filesMarkedWeak(sequence.calibration_files);
+  std::string weak_mark;
+  for (const std::string& file : weak) {
+    std::cerr << "WARNING: record: " << file
+              << ": adugs calib marked this calibration WEAK; the recording's cam0/sensor.yaml carries the mark\n";
+    weak_mark += "# verdict: weak (copied by adugs record from " + file + ", which adugs calib marked weak)\n";
+  }
   data::AslWriter writer(a.out_dir, sequence.camera, sequence.has_imu ? &sequence.imu_noise : nullptr, false,
-                         "recorded by adugs record; calibration: " + sequence.calibration_from);
+                         "recorded by adugs record; calibration: " + sequence.calibration_from,
+                         weak_mark);
 
   // The writer thread: PNG encoding and disk off the acquisition thread.
   Channel<data::Measurement> queue;
@@ -128,8 +139,13 @@ void recordToAsl(data::OpenedSequence& sequence, const AslRecordOptions& a) {
                         c.csv_imu == (sequence.has_imu ? c.imu_acquired.load() : 0);
   std::ostringstream summary;
   summary << "source: \"" << source.description() << "\"\n"
-          << "calibration: \"" << sequence.calibration_from << "\"\n"
-          << "end: " << (source_error || writer_error ? "error" : stopped.empty() ? "end_of_source" : "stopped") << "\n";
+          << "calibration: \"" << sequence.calibration_from << "\"\n";
+  if (!weak.empty()) {
+    summary << "calibration_weak: [";
+    for (size_t i = 0; i < weak.size(); ++i) summary << (i ? ", \"" : "\"") << weak[i] << "\"";
+    summary << "]\n";
+  }
+  summary << "end: " << (source_error || writer_error ? "error" : stopped.empty() ? "end_of_source" : "stopped") << "\n";
   std::string why = stopped.empty() ? source.stopReason() : stopped;  // a camera unplugged, ...
   std::replace(why.begin(), why.end(), '"', '\'');
   if (!why.empty()) summary << "end_detail: \"" << why << "\"\n";

@@ -73,14 +73,6 @@ PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSeque
   return o;
 }
 
-// The user's Kalibr files that `adugs calib` wrote with the verdict weak (their first line says so).
-std::vector<std::string> weakCalibrationFiles(const data::OpenedSequence& sequence) {
-  std::vector<std::string> weak;
-  for (const std::string& file : sequence.user_calibration_files)
-    if (calib::writtenVerdict(file) == calib::Verdict::kWeak) weak.push_back(file);
-  return weak;
-}
-
 // The lines of summary.yaml after writeRunOutputs' common ones.
 std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, const data::OpenedSequence& sequence,
                          const RunConfig& config, const PipelineRunArgs& a, const std::vector<std::string>& weak) {
@@ -187,7 +179,7 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   const RunConfig config = runConfigFor(a.config_path, sequence, &config_used);
   if (!a.quiet) std::cerr << a.command << ": config " << config_used << "\n";
   // Said even with -q: a weak calibration limits every pose of the run.
-  const std::vector<std::string> weak = weakCalibrationFiles(sequence);
+  const std::vector<std::string> weak = calib::filesMarkedWeak(sequence.calibration_files);
   for (const std::string& file : weak)
     std::cerr << "WARNING: " << a.command << ": " << file
               << ": adugs calib marked this calibration WEAK (the reasons and what to record next are at the top "

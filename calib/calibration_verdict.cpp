@@ -75,7 +75,15 @@ Verdict writtenVerdict(const std::string& path) {
   if (!in) throw data::InputError(path, 0, "", "cannot open");
   std::string first;
   std::getline(in, first);
+  if (first.rfind("%YAML:", 0) == 0) std::getline(in, first);  // an EuRoC sensor.yaml's header
   return first.rfind("# verdict: weak", 0) == 0 ? Verdict::kWeak : Verdict::kOk;
+}
+
+std::vector<std::string> filesMarkedWeak(const std::vector<std::string>& files) {
+  std::vector<std::string> weak;
+  for (const std::string& file : files)
+    if (writtenVerdict(file) == Verdict::kWeak) weak.push_back(file);
+  return weak;
 }
 
 }  // namespace adugs::calib

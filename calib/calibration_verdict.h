@@ -48,10 +48,12 @@ std::string failureReasons(const CalibrationVerdict& verdict);
 // The same as YAML comment lines ("# ..."), for the top of a written calibration file.
 std::string verdictYamlComment(const CalibrationVerdict& verdict);
 
-// The verdict a calibration file written by adugs states on its first line ("# verdict: weak");
-// kOk for "ok" and for a file without that line (written by another tool). An unreadable file
-// is an InputError naming it.
+// The verdict a calibration file written by adugs states on its first line ("# verdict: weak"; in
+// an EuRoC sensor.yaml the line after "%YAML:1.0"); kOk for "ok" and for a file without that line
+// (written by another tool). An unreadable file is an InputError naming it.
 Verdict writtenVerdict(const std::string& path);
+// Those of the files whose written verdict is weak, in order.
+std::vector<std::string> filesMarkedWeak(const std::vector<std::string>& files);
 
 // Thrown by a command whose result failed its verdict; main() prints it and exits with
 // kExitCalibrationFailed. The message is the formatted verdict.

@@ -49,11 +49,11 @@ std::string exactNumber(double v) {
 }
 
 AslWriter::AslWriter(const std::string& root, const CameraCalibration& camera, const ImuNoise* imu, bool masks,
-                     const std::string& camera_comment)
+                     const std::string& camera_comment, const std::string& camera_first_comment)
     : mav_((fs::path(root) / "mav0").string()), masks_(masks) {
   const fs::path mav(mav_);
   makeDir(mav / "cam0/data");
-  writeEurocCameraYaml((mav / "cam0/sensor.yaml").string(), camera, camera_comment);
+  writeEurocCameraYaml((mav / "cam0/sensor.yaml").string(), camera, camera_comment, camera_first_comment);
   openCsv(cam_csv_, mav / "cam0/data.csv", "#timestamp [ns],filename");
   if (imu) {
     makeDir(mav / "imu0");

@@ -26,8 +26,9 @@ class AslWriter {
   // Creates the folders under root (root/mav0/...) and the sensor.yaml files (imu0 only when
   // `imu` is given; camera_comment: the camera file's comment, e.g. where its calibration came
   // from). Throws InputError naming the folder or file that cannot be created.
+  // camera_first_comment: "# ..." lines at the top of cam0/sensor.yaml (a calibration verdict).
   AslWriter(const std::string& root, const CameraCalibration& camera, const ImuNoise* imu, bool masks,
-            const std::string& camera_comment = "written by adugs");
+            const std::string& camera_comment = "written by adugs", const std::string& camera_first_comment = "");
 
   // One image (and its mask when the writer has masks); frames in increasing time.
   void writeFrame(int64_t t_ns, const cv::Mat& image, const cv::Mat& mask = cv::Mat());

@@ -113,6 +113,9 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
     YamlOptionsReader::fromFile(sim.string()).optional("mode", mode);
     s.simulated = mode == "synthetic";
   }
+  // The folder's own camera file may carry adugs calib's verdict (a recording made with a weak one).
+  const fs::path camera_file = fs::path(reader->mavDir()) / "cam0" / "sensor.yaml";
+  if (!calib.camera && fs::is_regular_file(camera_file, ec)) s.calibration_files.push_back(camera_file.string());
   s.source = std::move(reader);
   return s;
 }
@@ -189,7 +192,7 @@ OpenedSequence openSequence(const PlaybackOptions& o, const std::string& out_dir
   const Calibration calib = loadCalibration(o, preset);
   OpenedSequence s = preset.bag ? openBagSequence(o, preset, calib, out_dir) : openFolder(o, calib);
   s.calibration_from = calib.from;
-  s.user_calibration_files = calib.user_files;
+  s.calibration_files.insert(s.calibration_files.end(), calib.user_files.begin(), calib.user_files.end());
   if (o.start_ns < 0 || o.duration_ns < 0)
     throw InputError("--start/--duration", 0, "start", "must not be negative");
   if (o.start_ns > 0 || o.duration_ns > 0 || o.realtime)

@@ -49,7 +49,9 @@ struct OpenedSequence {
   // a hybrid one (rendered images along a real flight's IMU) is not.
   bool simulated = false;
   std::string calibration_from;  // where the calibration came from, for the run summary
-  std::vector<std::string> user_calibration_files;  // the user's Kalibr files it was read from
+  // Calibration files it was read from that may carry adugs calib's verdict: the user's Kalibr
+  // files, an ASL folder's own cam0/sensor.yaml.
+  std::vector<std::string> calibration_files;
   size_t gt_duplicates_dropped = 0;
 };
 

@@ -177,13 +177,14 @@ ImuNoise parseEurocImuYaml(const std::string& text, const std::string& source) {
 
 ImuNoise readEurocImuYaml(const std::string& path) { return parseImu(YamlOptionsReader::fromFile(path)); }
 
-std::string formatEurocCameraYaml(const CameraCalibration& c, const std::string& comment) {
+std::string formatEurocCameraYaml(const CameraCalibration& c, const std::string& comment,
+                                  const std::string& first_comment) {
   std::string quoted;  // a YAML double-quoted scalar
   for (char ch : comment) {
     if (ch == '"' || ch == '\\') quoted += '\\';
     quoted += ch == '\n' ? ' ' : ch;
   }
-  std::string s = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\n";
+  std::string s = "%YAML:1.0\n" + first_comment + "# General sensor definitions.\nsensor_type: camera\n";
   s += "comment: \"" + quoted + "\"\n\n# Sensor extrinsics wrt. the body-frame.\n";
   s += transformYaml(c.T_B_C);
   s += "\n# Camera specific definitions.\n";
@@ -208,8 +209,9 @@ std::string formatEurocImuYaml(const ImuNoise& imu) {
   return s;
 }
 
-void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera, const std::string& comment) {
-  writeFile(path, formatEurocCameraYaml(camera, comment));
+void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera, const std::string& comment,
+                          const std::string& first_comment) {
+  writeFile(path, formatEurocCameraYaml(camera, comment, first_comment));
 }
 
 void writeEurocImuYaml(const std::string& path, const ImuNoise& imu) {

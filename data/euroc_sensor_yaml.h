@@ -60,10 +60,12 @@ ImuNoise parseEurocImuYaml(const std::string& text, const std::string& source);
 // Write; numbers are printed in their shortest exact form. Throws InputError if the file cannot
 // be written.
 // comment: the file's `comment:` value (e.g. where the calibration came from).
-std::string formatEurocCameraYaml(const CameraCalibration& camera, const std::string& comment = "written by adugs");
+// first_comment: lines ("# ...") put right after the %YAML:1.0 header (e.g. a calibration verdict).
+std::string formatEurocCameraYaml(const CameraCalibration& camera, const std::string& comment = "written by adugs",
+                                  const std::string& first_comment = "");
 std::string formatEurocImuYaml(const ImuNoise& imu);
 void writeEurocCameraYaml(const std::string& path, const CameraCalibration& camera,
-                          const std::string& comment = "written by adugs");
+                          const std::string& comment = "written by adugs", const std::string& first_comment = "");
 void writeEurocImuYaml(const std::string& path, const ImuNoise& imu);
 
 }  // namespace adugs::data

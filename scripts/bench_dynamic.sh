@@ -173,4 +173,5 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --joblog "$out/joblog" < "$out/r
 /usr/bin/python3 "$root/scripts/bench_dynamic_report.py" "$out" --seeds "$seeds" --scenes "$scenes" \
   --levels "$levels" --modes "$modes" --nmax "$nmax_values" --dmin "$dmin_values" \
   --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"} \
-  --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels"
+  --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels" \
+  --class-config "$class_config"

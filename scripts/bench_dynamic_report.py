@@ -94,6 +94,7 @@ def main():
     p.add_argument("--candidates", default="", help="NAME=KEY:VALUE[,...] ... as given to bench_dynamic.sh")
     p.add_argument("--candidate-levels", default="")
     p.add_argument("--ablation-levels", default="")
+    p.add_argument("--class-config", default="")
     a = p.parse_args()
     seeds, scenes, levels, modes = a.seeds.split(), a.scenes.split(), a.levels.split(), a.modes.split()
     candidates = [c.split("=", 1) for c in a.candidates.split()]
@@ -107,6 +108,8 @@ def main():
         options += " --ablation-levels \"%s\"" % " ".join(ablation_levels)
     if a.heatmap != "1":
         options += " --no-heatmap"
+    if a.class_config:
+        options += " --class-config %s" % a.class_config
     options += "".join(" --candidate %s" % c for c in a.candidates.split())
     if candidates and candidate_levels != levels:
         options += " --candidate-levels \"%s\"" % " ".join(candidate_levels)

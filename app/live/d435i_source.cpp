@@ -518,7 +518,7 @@ data::OpenedSequence openD435i(const D435iOptions& options, const std::string& k
   if (!kalibr_camchain.empty()) {
     camera = data::readKalibrCamchain(kalibr_camchain);
     camera_from = kalibr_camchain;
-    out.user_calibration_files.push_back(kalibr_camchain);
+    out.calibration_files.push_back(kalibr_camchain);
   }
   if (camera.camera.width != options.width || camera.camera.height != options.height)
     throw data::InputError(kalibr_camchain.empty() ? std::string("d435i.cam0") : kalibr_camchain, 0, "resolution",
@@ -528,7 +528,7 @@ data::OpenedSequence openD435i(const D435iOptions& options, const std::string& k
   out.camera = camera.camera;
   out.camera.rate_hz = options.fps;
   out.imu_noise = kalibr_imu.empty() ? options.imu_noise : data::readKalibrImu(kalibr_imu).noise;
-  if (!kalibr_imu.empty()) out.user_calibration_files.push_back(kalibr_imu);
+  if (!kalibr_imu.empty()) out.calibration_files.push_back(kalibr_imu);
   out.calibration_from = "camera: " + camera_from + "; IMU: " +
                          (kalibr_imu.empty() ? std::string("the run config's d435i.imu0") : kalibr_imu);
   if (options.backend == "librealsense") out.source = openVispRealSense2(options, camera.time_shift_ns);

@@ -106,7 +106,7 @@ data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& 
   if (!p.kalibr_imu.empty())
     throw data::InputError(p.kalibr_imu, 0, "--kalibr-imu", "--video and --v4l2 have no IMU (vision only)");
   s.has_imu = false;
-  if (!p.kalibr_camchain.empty()) s.user_calibration_files.push_back(p.kalibr_camchain);
+  if (!p.kalibr_camchain.empty()) s.calibration_files.push_back(p.kalibr_camchain);
   if (!a.video.empty()) {
     auto video = std::make_unique<VideoFileSource>(a.video, a.video_speed);
     s.camera = visionOnlyCamera(video->width(), video->height(), video->frameRateHz(), p.kalibr_camchain,

@@ -296,6 +296,39 @@ TEST(CmdLiveErrors, BadSourcesAreErrorsNamingTheProblem) {
   EXPECT_NE(log.find("/dev/video-adugs-none"), std::string::npos) << log;
 }
 
+// A sequence whose camera file adugs calib marked weak, recorded: `adugs record` warns, names it in
+// record.yaml and keeps the mark in the recording's cam0/sensor.yaml, so `adugs run` on the
+// recording warns as on the original.
+TEST_F(CmdLive, ARecordingKeepsTheWeakMarkOfItsCalibration) {
+  TempDir out;
+  const fs::path weak_seq = out / "weak_seq";
+  fs::copy(seq(), weak_seq, fs::copy_options::recursive);
+  const fs::path camera_file = weak_seq / "mav0/cam0/sensor.yaml";
+  std::string text = readFile(camera_file);
+  ASSERT_EQ(text.rfind("%YAML:1.0\n", 0), 0u);
+  text.insert(10, "# verdict: weak\n# WARNING: this calibration is WEAK\n");
+  writeText(camera_file, text);
+  std::string log;
+  ASSERT_EQ(runAdugs("record -q --replay " + weak_seq.string() + " --duration 1 --out " + (out / "rec").string(), &log), 0)
+      << log;
+  EXPECT_NE(log.find("WARNING: record: " + camera_file.string() + ": adugs calib marked this calibration WEAK"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(summaryText(out / "rec/record.yaml", "calibration_weak"), "[\"" + camera_file.string() + "\"]");
+  const fs::path recorded_camera = out / "rec/mav0/cam0/sensor.yaml";
+  ASSERT_EQ(runAdugs("run -q " + (out / "rec").string() + " --config " + cfg() + " --out " + (out / "run").string(), &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("WARNING: run: " + recorded_camera.string() + ": adugs calib marked this calibration WEAK"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(summaryText(out / "run/summary.yaml", "calibration_weak"), "[\"" + recorded_camera.string() + "\"]");
+  // The original folder's camera file has no mark: no warning.
+  ASSERT_EQ(runAdugs("record -q --replay " + seq() + " --duration 1 --out " + (out / "rec_ok").string(), &log), 0) << log;
+  EXPECT_EQ(log.find("WARNING"), std::string::npos) << log;
+  EXPECT_EQ(readFile(out / "rec_ok/record.yaml").find("calibration_weak"), std::string::npos);
+}
+
 // A recording from a camera (here: the real EuRoC AprilGrid picture, an image folder played as a
 // camera) is what `adugs calib` reads: the same board corners as in the original image.
 TEST(CmdRecordCalib, RecordedImagesGiveTheBoardCornersOfTheOriginal) {
