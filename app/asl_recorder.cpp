@@ -139,13 +139,8 @@ void recordToAsl(data::OpenedSequence& sequence, const AslRecordOptions& a) {
                         c.csv_imu == (sequence.has_imu ? c.imu_acquired.load() : 0);
   std::ostringstream summary;
   summary << "source: \"" << source.description() << "\"\n"
-          << "calibration: \"" << sequence.calibration_from << "\"\n";
-  if (!weak.empty()) {
-    summary << "calibration_weak: [";
-    for (size_t i = 0; i < weak.size(); ++i) summary << (i ? ", \"" : "\"") << weak[i] << "\"";
-    summary << "]\n";
-  }
-  summary << "end: " << (source_error || writer_error ? "error" : stopped.empty() ? "end_of_source" : "stopped") << "\n";
+          << "calibration: \"" << sequence.calibration_from << "\"\n"
+          << calib::calibrationWeakYamlLine(weak) << "end: " << (source_error || writer_error ? "error" : stopped.empty() ? "end_of_source" : "stopped") << "\n";
   std::string why = stopped.empty() ? source.stopReason() : stopped;  // a camera unplugged, ...
   std::replace(why.begin(), why.end(), '"', '\'');
   if (!why.empty()) summary << "end_detail: \"" << why << "\"\n";

@@ -80,12 +80,8 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
   const data::SourceCounts& counts = r.source_counts;
   std::ostringstream out;
   out << "source: \"" << sequence.source->description() << "\"\n"
-      << "calibration: \"" << sequence.calibration_from << "\"\n";
-  if (!weak.empty()) {  // a flow list of the files
-    out << "calibration_weak: [";
-    for (size_t i = 0; i < weak.size(); ++i) out << (i ? ", \"" : "\"") << weak[i] << "\"";
-    out << "]\n";
-  }
+      << "calibration: \"" << sequence.calibration_from << "\"\n"
+      << calib::calibrationWeakYamlLine(weak);
   out << "late_messages_dropped: " << counts.late_dropped << "\n"
       << "imu_samples_dropped: " << counts.imu_dropped << "\n"
       << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"

@@ -86,4 +86,11 @@ std::vector<std::string> filesMarkedWeak(const std::vector<std::string>& files) 
   return weak;
 }
 
+std::string calibrationWeakYamlLine(const std::vector<std::string>& weak_files) {
+  if (weak_files.empty()) return "";
+  std::string line = "calibration_weak: [";
+  for (size_t i = 0; i < weak_files.size(); ++i) line += (i ? ", \"" : "\"") + weak_files[i] + "\"";
+  return line + "]\n";
+}
+
 }  // namespace adugs::calib

@@ -54,6 +54,8 @@ std::string verdictYamlComment(const CalibrationVerdict& verdict);
 Verdict writtenVerdict(const std::string& path);
 // Those of the files whose written verdict is weak, in order.
 std::vector<std::string> filesMarkedWeak(const std::vector<std::string>& files);
+// The summary line naming them, `calibration_weak: ["a", "b"]` + newline; "" when there are none.
+std::string calibrationWeakYamlLine(const std::vector<std::string>& weak_files);
 
 // Thrown by a command whose result failed its verdict; main() prints it and exits with
 // kExitCalibrationFailed. The message is the formatted verdict.
