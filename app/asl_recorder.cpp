@@ -15,9 +15,8 @@
 #include "app/pipeline/stop_signal.h"
 #include "app/source_lost.h"
 #include "calib/calibration_verdict.h"
-#include "data/asl_writer.h"
-#include "data/atomic_file.h"
-#include "data/csv_reader.h"
+#include "data/formats/asl_writer.h"
+#include "data/formats/atomic_file.h"
 
 namespace adugs::app {
 namespace {
@@ -27,21 +26,6 @@ struct RecordCounts {
   std::atomic<size_t> frames_acquired{0}, imu_acquired{0}, frames_lost_queue{0};  // by the acquisition thread
   size_t csv_frames = 0, image_files = 0, csv_imu = 0;                              // the check at the end
 };
-
-// Rows of an ASL CSV (after its header), 0 when the file does not exist.
-size_t csvRows(const fs::path& path) {
-  if (!fs::exists(path)) return 0;
-  data::CsvReader r(path.string());
-  size_t rows = 0;
-  while (r.next()) ++rows;
-  return rows;
-}
-
-size_t pngFiles(const fs::path& dir) {
-  size_t n = 0;
-  for (const auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() && e.path().extension() == ".png";
-  return n;
-}
 
 }  // namespace
 
@@ -131,9 +115,10 @@ void recordToAsl(data::OpenedSequence& sequence, const AslRecordOptions& a) {
 
   // The check: what is in the folder is what was acquired.
   const fs::path mav = writer.mavDir();
-  c.csv_frames = csvRows(mav / "cam0/data.csv");
-  c.image_files = pngFiles(mav / "cam0/data");
-  c.csv_imu = sequence.has_imu ? csvRows(mav / "imu0/data.csv") : 0;
+  const data::AslFolderCounts written = data::countAslFolder(mav.parent_path().string());
+  c.csv_frames = written.camera_rows;
+  c.image_files = written.image_files;
+  c.csv_imu = sequence.has_imu ? written.imu_rows : 0;
   const size_t frames_kept = c.frames_acquired - c.frames_lost_queue;  // the acquisition has ended
   const bool complete = c.frames_lost_queue == 0 && c.csv_frames == frames_kept && c.image_files == frames_kept &&
                         c.csv_imu == (sequence.has_imu ? c.imu_acquired.load() : 0);

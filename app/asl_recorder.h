@@ -1,6 +1,6 @@
 #pragma once
 // What `adugs record` does with an opened live source: writes it into an EuRoC ASL folder
-// (data/asl_writer.h: cam0 images, united IMU, sensor.yaml files) that `adugs run`, `adugs calib ...`
+// (data/formats/asl_writer.h: cam0 images, united IMU, sensor.yaml files) that `adugs run`, `adugs calib ...`
 // and `adugs track` read back, and OUT/record.yaml.
 //
 // No acquired frame may be lost: the source is read on its own thread and handed to a writer thread
@@ -12,7 +12,7 @@
 // cleanly; everything acquired until then is written.
 #include <string>
 
-#include "data/dataset_preset.h"
+#include "data/sources/dataset_preset.h"
 
 namespace adugs::app {
 

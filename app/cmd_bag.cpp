@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/commands.h"
-#include "data/rosbag_info.h"
+#include "data/sources/rosbag_info.h"
 
 namespace adugs::app {
 

@@ -10,30 +10,30 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "app/commands.h"
-#include "calib/allan_variance.h"
-#include "calib/aprilgrid_detector.h"
-#include "calib/aprilgrid_render.h"
-#include "calib/aprilgrid_target_yaml.h"
-#include "calib/calibration_report.h"
 #include "calib/calibration_verdict.h"
-#include "calib/camera_imu_calibrator.h"
-#include "calib/camera_imu_input.h"
-#include "calib/camera_imu_report.h"
-#include "calib/camera_imu_verdict.h"
-#include "calib/chessboard.h"
-#include "calib/corner_csv.h"
-#include "calib/image_source.h"
-#include "calib/imu_noise_verdict.h"
-#include "calib/intrinsics_calibrator.h"
-#include "calib/intrinsics_verdict.h"
+#include "calib/camera_imu/camera_imu_calibrator.h"
+#include "calib/camera_imu/camera_imu_input.h"
+#include "calib/camera_imu/camera_imu_report.h"
+#include "calib/camera_imu/camera_imu_verdict.h"
+#include "calib/imu_noise/allan_variance.h"
+#include "calib/imu_noise/imu_noise_verdict.h"
+#include "calib/intrinsics/intrinsics_calibrator.h"
+#include "calib/intrinsics/intrinsics_report.h"
+#include "calib/intrinsics/intrinsics_verdict.h"
+#include "calib/intrinsics/visp_camera_xml.h"
 #include "calib/kalibr_yaml.h"
+#include "calib/target/aprilgrid_detector.h"
+#include "calib/target/aprilgrid_render.h"
+#include "calib/target/aprilgrid_target_yaml.h"
+#include "calib/target/chessboard.h"
+#include "calib/target/corner_csv.h"
 #include "calib/text_format.h"
-#include "calib/visp_camera_xml.h"
-#include "data/atomic_file.h"
 #include "data/camera_model.h"
-#include "data/euroc_sensor_yaml.h"
+#include "data/formats/atomic_file.h"
+#include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/yaml_options.h"
 #include "data/input_error.h"
-#include "data/yaml_options.h"
+#include "data/sources/image_source.h"
 
 namespace adugs::app {
 namespace {
@@ -165,12 +165,12 @@ struct Detected {
 Detected detectAll(const calib::AprilGrid& grid, const std::string& images, int every,
                    const calib::DetectorOptions& options, bool verbose,
                    const calib::Chessboard* chessboard = nullptr) {
-  calib::ImageSource source(images, every);
+  data::ImageSource source(images, every);
   std::unique_ptr<calib::AprilGridDetector> detector;
   if (!chessboard) detector = std::make_unique<calib::AprilGridDetector>(grid, options);
   Detected d;
   const auto t0 = std::chrono::steady_clock::now();
-  calib::ImageFrame frame;
+  data::ImageFrame frame;
   while (source.next(frame)) {
     if (d.images == 0) {
       d.width = frame.gray.cols;

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/live/d435i_probe.h"
 #include "app/run_config.h"
+#include "data/sources/d435i_probe.h"
 
 namespace adugs::app {
 
@@ -29,13 +29,13 @@ void registerD435iCommand(CLI::App& root) {
   info->add_option("--stream-seconds", a->stream_seconds, "then stream this long and report rates, drops, clock")
       ->check(CLI::Range(0.0, 3600.0));
   info->callback([a] {
-    D435iOptions o = loadRunConfig(a->config).d435i;
+    data::D435iOptions o = loadRunConfig(a->config).d435i;
     if (!a->sys_root.empty()) o.sys_root = a->sys_root;
     if (!a->dev_root.empty()) o.dev_root = a->dev_root;
     if (!a->usb_id.empty()) o.usb_id = a->usb_id;
     if (!a->serial.empty()) o.serial = a->serial;
-    printD435iInfo(std::cout, o, systemV4l2Io());
-    if (a->stream_seconds > 0) printD435iStreamCheck(std::cout, o, a->stream_seconds, systemV4l2Io());
+    data::printD435iInfo(std::cout, o, data::systemV4l2Io());
+    if (a->stream_seconds > 0) data::printD435iStreamCheck(std::cout, o, a->stream_seconds, data::systemV4l2Io());
   });
 }
 

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "data/atomic_file.h"
+#include "data/formats/atomic_file.h"
+#include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
-#include "data/trajectory_io.h"
 #include "vio/eval/trajectory_eval.h"
 #include "vio/eval/trajectory_plot.h"
 

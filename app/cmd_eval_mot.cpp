@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "data/atomic_file.h"
+#include "data/formats/atomic_file.h"
+#include "data/formats/mot_io.h"
 #include "data/input_error.h"
-#include "data/mot_io.h"
-#include "tracking/hota.h"
-#include "tracking/mot_metrics.h"
+#include "tracking/eval/hota.h"
+#include "tracking/eval/mot_metrics.h"
 
 namespace adugs::app {
 namespace {

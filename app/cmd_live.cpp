@@ -1,5 +1,5 @@
 // `adugs live`: the odometry pipeline of `adugs run` (app/pipeline/pipeline.h) on a live source
-// (app/live/live_sources.h): a sensor-paced replay of a recorded sequence, a video played as a
+// (app/live_sources.h): a sensor-paced replay of a recorded sequence, a video played as a
 // camera, a V4L2 camera, or a RealSense D435i. Live sources cannot wait, so when the masking, front-end or estimator
 // fall behind, frames are dropped (the oldest waiting one; counted in summary.yaml and on the
 // status line), never IMU samples. Ctrl-C (SIGINT, SIGTERM) stops cleanly: the frames already
@@ -11,7 +11,7 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/live/live_sources.h"
+#include "app/live_sources.h"
 #include "app/pipeline/live_window.h"
 #include "app/run_pipeline.h"
 

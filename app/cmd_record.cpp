@@ -1,4 +1,4 @@
-// `adugs record`: a live source (app/live/live_sources.h: --replay, --video, --v4l2, --d435i)
+// `adugs record`: a live source (app/live_sources.h: --replay, --video, --v4l2, --d435i)
 // into an EuRoC ASL folder (app/asl_recorder.h) that `adugs run`, `adugs calib ...` and `adugs
 // track` read back.
 #include <filesystem>
@@ -7,7 +7,7 @@
 
 #include "app/asl_recorder.h"
 #include "app/commands.h"
-#include "app/live/live_sources.h"
+#include "app/live_sources.h"
 #include "data/input_error.h"
 
 namespace adugs::app {

@@ -18,9 +18,9 @@
 #include "app/run_options.h"
 #include "app/run_pipeline.h"
 #include "app/run_report.h"
-#include "data/dataset_preset.h"
+#include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
-#include "data/trajectory_io.h"
+#include "data/sources/dataset_preset.h"
 #include "vio/imu/imu_dead_reckoning.h"
 
 namespace adugs::app {
@@ -85,7 +85,7 @@ void runImuOnly(const RunArgs& a) {
 
 void runSequence(const RunArgs& a) {
   if (a.estimator == "imu-only") {
-    if (a.mask.mask != "none" || !a.config_path.empty())
+    if (a.mask.masking.source != MaskSource::kNone || !a.config_path.empty())
       throw CLI::ValidationError("--mask/--config", "only the vio estimator uses them");
     runImuOnly(a);
     return;

@@ -8,7 +8,7 @@
 
 #include "app/commands.h"
 #include "data/input_error.h"
-#include "data/sim_sequence.h"
+#include "data/sim/sim_sequence.h"
 
 namespace adugs::app {
 namespace {

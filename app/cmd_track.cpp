@@ -24,24 +24,25 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <memory>
-#include <string>
-
-#include "app/commands.h"
-#include "data/input_error.h"
-#include "data/mot_io.h"
 #include <map>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <string>
 
+#include "app/commands.h"
 #include "app/pipeline/overlay_video.h"
-#include "calib/image_source.h"
-#include "tracking/appearance.h"
-#include "tracking/detector_factory.h"
+#include "app/run_config.h"
+#include "data/formats/mot_io.h"
+#include "data/input_error.h"
+#include "data/sources/image_source.h"
+#include "tracking/detect/detector_factory.h"
 #include "tracking/dynamic_masker.h"
-#include "tracking/segmenter_factory.h"
-#include "tracking/sort_tracker.h"
+#include "tracking/dynamic_masker_options.h"
+#include "tracking/segment/segmenter_factory.h"
+#include "tracking/sort/appearance.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::app {
 namespace {
@@ -57,6 +58,7 @@ struct TrackArgs {
   bool write_detections = false;
   std::vector<int> classes;  // detector class ids kept (empty: every dynamic class the detector keeps)  // DIR/det.txt: the detector's boxes with scores, MOTChallenge det format
   int detect_every = 1;
+  std::string config_path;  // run config whose dynamic: map sets the masker's options
   bool fixed_noise = false;
   tracking::SortOptions sort;
 };
@@ -86,14 +88,14 @@ class DetectionFeed {
     if (a.video.empty()) return;
     // A sequence's camera images, an ASL camera folder, a folder of images (name order) or a video.
     const fs::path cam = fs::path(a.video) / "mav0" / "cam0";
-    images_ = std::make_unique<calib::ImageSource>(fs::is_directory(cam) ? cam.string() : a.video);
+    images_ = std::make_unique<data::ImageSource>(fs::is_directory(cam) ? cam.string() : a.video);
   }
 
   // detect: whether this frame's detections are wanted (--detect-every skips the others).
   bool next(int frame, bool detect, std::vector<tracking::Detection>* dets, cv::Mat* image) {
     dets->clear();
     if (images_) {
-      calib::ImageFrame f;
+      data::ImageFrame f;
       if (!images_->next(f)) return false;
       *image = f.image;
     } else if (frame > last_frame_) {
@@ -124,7 +126,7 @@ class DetectionFeed {
   std::map<int, std::vector<data::MotBox>> file_;
   int last_frame_ = 0;
   std::unique_ptr<tracking::Detector> detector_;
-  std::unique_ptr<calib::ImageSource> images_;  // INPUT
+  std::unique_ptr<data::ImageSource> images_;  // INPUT
 };
 
 void runTrack(const TrackArgs& a) {
@@ -154,7 +156,7 @@ void runTrack(const TrackArgs& a) {
   std::unique_ptr<tracking::DynamicMasker> masker;
   if (!a.segmenter.empty()) {
     if (a.video.empty()) throw CLI::ValidationError("--segmenter", "masks need the images: give an INPUT, not --detections");
-    tracking::DynamicMaskerOptions m;
+    tracking::DynamicMaskerOptions m = loadRunConfig(a.config_path).dynamic;
     m.detect_every = a.detect_every;
     masker = std::make_unique<tracking::DynamicMasker>(m, tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder));
     if (a.write_masks) fs::create_directories(fs::path(a.out_dir) / "masks");
@@ -166,6 +168,7 @@ void runTrack(const TrackArgs& a) {
   std::vector<tracking::Detection> dets;
   cv::Mat image;
   int frames_since_detection = a.detect_every;
+  // MOT frames count from 1, the detection rule's frame index from 0.
   for (bool detect = true; feed.next(frame, detect, &dets, &image); ++frame) {
     // Frames the detector skips get the tracks predicted to them; a track counts as found there
     // when it was found at the last detection.
@@ -179,7 +182,7 @@ void runTrack(const TrackArgs& a) {
     const std::vector<tracking::TrackedObject> tracks =
         detect ? tracker.update(dets, frames_since_detection) : tracker.predict(frames_since_detection);
     frames_since_detection = detect ? 1 : frames_since_detection + 1;
-    detect = frames_since_detection >= a.detect_every;
+    detect = tracking::isDetectionFrame(frame, a.detect_every);
     for (const tracking::TrackedObject& t : tracks) {
       if (t.frames_missed > 0 && !a.write_coasting) continue;
       // MOTChallenge: 1-based top-left pixel coordinates.
@@ -244,6 +247,10 @@ void registerTrackCommand(CLI::App& root) {
   cmd->add_option("--sam-encoder", args->sam_encoder, "--segmenter mobilesam: mobilesam_encoder.pt");
   cmd->add_option("--sam-decoder", args->sam_decoder, "--segmenter mobilesam: mobilesam_decoder.pt");
   cmd->add_flag("--masks", args->write_masks, "--segmenter: write each frame's mask to DIR/masks/NNNNNN.png");
+  cmd->add_option("--config", args->config_path,
+                  "--segmenter: run config (data/config/*.yaml) whose dynamic: map sets the masker's SORT, "
+                  "segmentation and refinement, as in adugs run (default: the defaults in code)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out_dir, "output folder (tracks.txt)")->capture_default_str();
   cmd->add_option("--min-score", args->min_score, "ignore detections scoring below this");
   cmd->add_option("--max-age", args->sort.max_age, "frames a track survives without a detection")

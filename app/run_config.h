@@ -2,27 +2,22 @@
 // The configuration of `adugs run --config FILE` (data/config/*.yaml): one map per stage,
 //   tracker:   vio/frontend/feature_tracker_options.h keys
 //   estimator: vio/estimator/estimator_options.h keys (static_init:, init: nested)
-//   dynamic:   the dynamic-object stage of --mask detector (detect_every, tracker: sort | none,
-//              noise: adaptive | fixed, SORT's max_age / min_hits / iou_min, the adaptive noise's
-//              lambda / beta_pos / beta_size / window, erode_radius_px / dilate_radius_px,
-//              min_box_side_px, segment_every (0 = auto: 10 for MobileSAM), segment_async,
-//              camera_motion_compensation, appearance_weight, and the association stages
-//              high_score / drop_unconfirmed / last_box_association / direction_weight)
+//   dynamic:   the dynamic-object stage of --mask detector (tracking/dynamic_masker_options.h keys)
 //   pipeline:  frame_queue (frames that may wait at the pipeline's entrance; live sources drop the
 //              oldest beyond it), test_estimator_delay_ms (FOR TESTS ONLY: a sleep per frame in the
 //              estimator stage, to check the live drop policy with an estimator slower than the camera)
 //   playback:  bag topics and the reorder window (image_topic, imu_topic, accel_topic,
 //              gyro_topic, gt_topic, gt_parent_frame, gt_child_frame, reorder_window_s); the
 //              command line's options win over these, these over the --dataset preset
-//   d435i:     the RealSense D435i live source (app/live/d435i_options.h: streams, controls, IMU
+//   d435i:     the RealSense D435i live source (data/sources/d435i_options.h: streams, controls, IMU
 //              rates, the default cam0 / imu0 calibration in Kalibr spelling); read by
 //              `adugs live --d435i` and `adugs record --d435i`, ignored by `adugs run`
 // Every key is optional; unknown keys and out-of-range values are errors naming file, line, key.
 #include <string>
 
-#include "app/live/d435i_options.h"
-#include "data/dataset_preset.h"
-#include "tracking/dynamic_masker.h"
+#include "data/sources/d435i_options.h"
+#include "data/sources/dataset_preset.h"
+#include "tracking/dynamic_masker_options.h"
 #include "vio/estimator/estimator_options.h"
 #include "vio/frontend/feature_tracker_options.h"
 
@@ -39,7 +34,7 @@ struct RunConfig {
   tracking::DynamicMaskerOptions dynamic;
   PipelineConfig pipeline;
   data::PlaybackOptions playback;  // only the topic / frame / window fields are read
-  D435iOptions d435i;
+  data::D435iOptions d435i;
 };
 
 // Fills the playback fields the command line left empty (or at their default) from the config.

@@ -48,18 +48,19 @@ data::PlaybackOptions playbackOptions(const SequenceArgs& a, const std::string& 
   return o;
 }
 
-void addMaskOptions(CLI::App* cmd, MaskArgs& m) {
-  cmd->add_option("--mask", m.mask,
+void addMaskOptions(CLI::App* cmd, MaskArgs& args) {
+  MaskingOptions& m = args.masking;
+  cmd->add_option("--mask", m.source,
                   "dynamic mask per frame: none; gt = the simulator's mav0/mask0 masks; detector = "
                   "detector -> SORT -> box segmentation -> refinement")
-      ->check(CLI::IsMember({"none", "gt", "detector"}))
-      ->capture_default_str();
+      ->transform(CLI::CheckedTransformer(maskSourceNames()))
+      ->default_str("none");
   cmd->add_option("--detector-config", m.detector_config, "--mask detector: darknet .cfg (default: beside the .weights)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--detector-model", m.detector_model,
                   "--mask detector: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights model")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--detect-every", m.detect_every,
+  cmd->add_option("--detect-every", args.detect_every,
                   "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between "
                   "(default: the run config's dynamic: detect_every, 1)")
       ->check(CLI::PositiveNumber);

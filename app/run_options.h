@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/run_pipeline.h"
-#include "data/dataset_preset.h"
+#include "data/sources/dataset_preset.h"
 
 namespace adugs::app {
 

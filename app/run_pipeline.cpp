@@ -42,13 +42,8 @@ vio::ImuPreintegrationOptions imuOptions(const data::ImuNoise& noise) {
 PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSequence& sequence,
                                 const PipelineRunArgs& a, const std::string& trajectory_path) {
   PipelineOptions o;
-  o.masking.mask = a.mask.mask;
+  o.masking = a.mask.masking;
   o.masking.mask_dir = sequence.mask_dir;
-  o.masking.detector_model = a.mask.detector_model;
-  o.masking.detector_config = a.mask.detector_config;
-  o.masking.segmenter = a.mask.segmenter;
-  o.masking.sam_encoder = a.mask.sam_encoder;
-  o.masking.sam_decoder = a.mask.sam_decoder;
   o.masking.masker = config.dynamic;
   if (a.mask.detect_every > 0) o.masking.masker.detect_every = a.mask.detect_every;
   if (!o.masking.masker.track && o.masking.masker.detect_every != 1)
@@ -86,7 +81,7 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "imu_samples_dropped: " << counts.imu_dropped << "\n"
       << "unmatched_gyro_samples: " << counts.unmatched_gyro << "\n"
       << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
-      << "mask: " << a.mask.mask << "\n"
+      << "mask: " << maskSourceName(a.mask.masking.source) << "\n"
       << "threads: " << r.threads << " (acquisition, detection, masking, front-end, "
       << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 5 ? ", view" : "") << ")\n";
   if (const vio::SlidingWindowEstimator* estimator = pipeline.estimator()) {

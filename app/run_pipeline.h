@@ -4,15 +4,16 @@
 // or an error: `end:` says which) and, when there is ground truth, the evaluation.
 #include <string>
 
-#include "data/dataset_preset.h"
+#include "app/pipeline/masking_stage.h"
+#include "data/sources/dataset_preset.h"
 
 namespace adugs::app {
 
-// The dynamic-mask options of the command line (--mask ...).
+// The dynamic-mask options of the command line (--mask ...): the masking stage's options (its
+// masker's options come from the run config's dynamic: map), and --detect-every, which overrides
+// that map's detect_every.
 struct MaskArgs {
-  std::string mask = "none";  // none | gt (the simulator's mask0/ folder) | detector
-  std::string detector_model, detector_config;  // darknet .cfg ("" = beside the .weights)
-  std::string segmenter = "grabcut", sam_encoder, sam_decoder;
+  MaskingOptions masking;
   int detect_every = 0;  // > 0: overrides the run config's dynamic: detect_every
 };
 

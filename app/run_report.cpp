@@ -5,8 +5,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "data/atomic_file.h"
-#include "data/trajectory_io.h"
+#include "data/formats/atomic_file.h"
+#include "data/formats/trajectory_io.h"
 #include "vio/eval/trajectory_eval.h"
 #include "vio/eval/trajectory_plot.h"
 

@@ -2,7 +2,7 @@
 // Kalibr output files: camchain.yaml (one camera) and imu.yaml (noise figures).
 #include <string>
 
-#include "calib/camera_model.h"
+#include "calib/pinhole_camera.h"
 
 namespace adugs::calib {
 

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "data/euroc_sensor_yaml.h"
+#include "data/calibration.h"
 
 namespace adugs::data {
 

@@ -21,10 +21,16 @@
 
 #include <gtest/gtest.h>
 
-#include "data/csv_reader.h"
+#include "data/formats/csv_reader.h"
 
 namespace adugs::test {
 namespace fs = std::filesystem;
+
+bool inputsRequired() {
+  const char* ci = std::getenv("CI");
+  const char* required = std::getenv("ADUGS_REQUIRE_INPUTS");
+  return (ci && std::string(ci) == "true") || (required && std::string(required) == "1");
+}
 
 fs::path sharedDataDir() {
   if (const char* env = std::getenv("ADUGS_SHARED_DATA")) return fs::path(env);

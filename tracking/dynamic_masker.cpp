@@ -1,17 +1,12 @@
 #include "tracking/dynamic_masker.h"
 
-#include "tracking/appearance.h"
+#include "data/elapsed_time.h"
+#include "tracking/sort/appearance.h"
 
 #include <chrono>
 #include <stdexcept>
 
 namespace adugs::tracking {
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
                              std::unique_ptr<BoxSegmenter> segmenter)
     : options_(options),
@@ -46,7 +41,7 @@ DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
     for (const Detection& d : detections) r.objects.push_back({0, d.box, d.class_id, true, 1, 0});
   }
   frames_since_detection_ = 1;
-  r.sort_ms = msSince(t0);
+  r.sort_ms = data::msSince(t0);
   return maskBoxes(image, std::move(r));
 }
 
@@ -55,7 +50,7 @@ DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
   auto t0 = std::chrono::steady_clock::now();
   r.objects = sort_.predict(frames_since_detection_);
   ++frames_since_detection_;
-  r.sort_ms = msSince(t0);
+  r.sort_ms = data::msSince(t0);
   return maskBoxes(image, std::move(r));
 }
 
@@ -72,11 +67,11 @@ DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResu
     for (const TrackedObject& o : objects) boxes.push_back(o.box);
     raw = segmenter_->segment(image, boxes);
   }
-  r.segment_ms = msSince(t0);
+  r.segment_ms = data::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
   r.mask = refineDynamicMask(raw, options_.refinement);
-  r.refine_ms = msSince(t0);
+  r.refine_ms = data::msSince(t0);
   r.masked_fraction = static_cast<double>(cv::countNonZero(r.mask)) / (image.rows * image.cols);
   return r;
 }

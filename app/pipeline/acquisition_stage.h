@@ -8,7 +8,7 @@
 
 #include "app/pipeline/frame_gate.h"
 #include "app/pipeline/pipeline_stats.h"
-#include "data/sequence_source.h"
+#include "data/sources/sequence_source.h"
 
 namespace adugs::app {
 

@@ -2,7 +2,8 @@
 
 #include <chrono>
 
-#include "tracking/detector_factory.h"
+#include "tracking/detect/detector_factory.h"
+#include "tracking/dynamic_masker_options.h"
 
 namespace adugs::app {
 
@@ -17,7 +18,7 @@ DetectionStage::~DetectionStage() = default;
 void DetectionStage::run(FrameGate& in, Channel<PipelineFrame>& out) {
   PipelineFrame f;
   while (in.pop(&f)) {
-    if (detector_ && f.index % detect_every_ == 0) {
+    if (detector_ && tracking::isDetectionFrame(f.index, detect_every_)) {
       const auto t0 = std::chrono::steady_clock::now();
       f.detections = detector_->detect(f.frame.colour.empty() ? f.frame.image : f.frame.colour);
       f.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

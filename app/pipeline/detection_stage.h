@@ -1,8 +1,8 @@
 #pragma once
 // The pipeline's detector stage, on a thread of its own ahead of the masking stage: the object
-// detector (tracking/detector_factory.h) on the frames it is due for (every detect_every-th frame
-// from the first: what DynamicMasker::detectionDue() says, checked by the masking stage), on the
-// colour image when the source has one. Apart from the rest of the dynamic-mask chain (SORT,
+// detector (tracking/detect/detector_factory.h) on the frames tracking::isDetectionFrame() names
+// (every detect_every-th frame from the first; the masking stage carries the boxes over the
+// others), on the colour image when the source has one. Apart from the rest of the dynamic-mask chain (SORT,
 // segmentation) so that on 2 cores the detector of frame k runs beside GrabCut of frame k-1.
 // Without --mask detector it only passes frames on.
 #include <memory>

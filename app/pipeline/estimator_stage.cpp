@@ -3,14 +3,9 @@
 #include <chrono>
 #include <thread>
 
+#include "data/elapsed_time.h"
+
 namespace adugs::app {
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 EstimatorStage::EstimatorStage(std::unique_ptr<vio::SlidingWindowEstimator> estimator,
                                const std::string& trajectory_path, double test_delay_ms)
@@ -29,7 +24,7 @@ void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* vie
       stats_.imu_to_estimator += f.imu.size();
       const auto t0 = std::chrono::steady_clock::now();
       const auto state = estimator_->addFrame(f.features);
-      f.backend_ms = msSince(t0);
+      f.backend_ms = data::msSince(t0);
       stats_.backend_ms.push_back(f.backend_ms);
       if (biases) biases->publish(estimator_->gyroBias());
       if (state) {
@@ -44,7 +39,7 @@ void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* vie
       counters.initialized = estimator_->initialized();
       counters.resets = estimator_->stats().resets;
     }
-    stats_.record(f, msSince(f.acquired_at));
+    stats_.record(f, data::msSince(f.acquired_at));
     counters.features = static_cast<int>(f.features.size());
     counters.sequence_ns = data::secToNs(f.sequence_s);
     ++counters.frames_processed;

@@ -13,7 +13,7 @@
 #include "app/pipeline/bias_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/pipeline_stats.h"
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
 #include "vio/estimator/sliding_window_estimator.h"
 
 namespace adugs::app {

@@ -17,8 +17,7 @@ void FrontEndStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out,
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
     if (biases && !biases->waitFor(f.index - kBiasDelay, &gyro_bias)) break;  // the estimator stopped
     if (biases && previous_t >= 0) {  // without an estimator there is no IMU to predict from
-      const Eigen::Matrix3d R_B = gyro_.rotation(previous_t, f.frame.t_ns, gyro_bias).toRotationMatrix();
-      tracker_.setPredictedRotation(R_B_C_.transpose() * R_B * R_B_C_);
+      tracker_.setPredictedRotation(gyro_.cameraRotation(previous_t, f.frame.t_ns, gyro_bias, R_B_C_));
       gyro_.dropBefore(f.frame.t_ns);
     }
     const auto t0 = std::chrono::steady_clock::now();

@@ -12,7 +12,7 @@
 #include "app/pipeline/pipeline_frame.h"
 #include "data/camera_model.h"
 #include "vio/frontend/feature_tracker.h"
-#include "vio/frontend/gyro_rotation_predictor.h"
+#include "vio/imu/gyro_rotation_predictor.h"
 
 namespace adugs::app {
 

@@ -13,15 +13,16 @@
 
 #include "app/pipeline/bias_feedback.h"
 #include "app/pipeline/channel.h"
+#include "app/pipeline/mask_source.h"
 #include "app/pipeline/pipeline_frame.h"
 #include "data/camera_model.h"
 #include "tracking/dynamic_masker.h"
-#include "vio/frontend/gyro_rotation_predictor.h"
+#include "vio/imu/gyro_rotation_predictor.h"
 
 namespace adugs::app {
 
 struct MaskingOptions {
-  std::string mask = "none";  // none | gt | detector
+  MaskSource source = MaskSource::kNone;
   std::string mask_dir;       // the simulator's mav0/mask0/data folder ("" if the sequence has none)
   std::string detector_model, detector_config;  // for the detection stage; darknet .cfg ("" = beside the .weights)
   std::string segmenter = "grabcut", sam_encoder, sam_decoder;

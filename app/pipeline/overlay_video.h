@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "tracking/sort_tracker.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::app {
 

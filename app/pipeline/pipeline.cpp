@@ -59,7 +59,7 @@ Pipeline::Pipeline(data::SequenceSource& source, const data::CameraCalibration& 
   const data::CameraModel model(camera);
   acquisition_ = std::make_unique<AcquisitionStage>(source_);
   masking_ = std::make_unique<MaskingStage>(options_.masking, model, camera.T_B_C);
-  detection_ = std::make_unique<DetectionStage>(options_.masking.mask == "detector" ? options_.masking.detector_model : "",
+  detection_ = std::make_unique<DetectionStage>(options_.masking.source == MaskSource::kDetector ? options_.masking.detector_model : "",
                                                 options_.masking.detector_config, options_.masking.masker.detect_every);
   front_end_ = std::make_unique<FrontEndStage>(options_.tracker, model, camera.T_B_C);
   std::unique_ptr<vio::SlidingWindowEstimator> estimator;

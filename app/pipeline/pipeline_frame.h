@@ -8,10 +8,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "data/sequence_source.h"
+#include "data/sources/sequence_source.h"
 #include "data/types.h"
-#include "tracking/detector.h"
-#include "tracking/sort_tracker.h"
+#include "tracking/detect/detector.h"
+#include "tracking/sort/sort_tracker.h"
 #include "vio/frontend/feature_tracker.h"
 
 namespace adugs::app {

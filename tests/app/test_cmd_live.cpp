@@ -11,8 +11,8 @@
 
 #include <opencv2/videoio.hpp>
 
-#include "data/csv_reader.h"
-#include "data/trajectory_io.h"
+#include "data/formats/csv_reader.h"
+#include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

@@ -13,10 +13,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "calib/calibration_verdict.h"
-#include "data/dataset_preset.h"
-#include "data/euroc_sensor_yaml.h"
-#include "data/kalibr_calibration.h"
-#include "data/trajectory_io.h"
+#include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/kalibr_calibration.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sources/dataset_preset.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <string>
 
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <regex>
 
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

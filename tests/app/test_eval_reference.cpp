@@ -11,7 +11,7 @@
 #include <regex>
 #include <string>
 
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 #include "vio/eval/trajectory_eval.h"
 

@@ -1,5 +1,5 @@
-// The live sources of `adugs live` / `adugs record` on their own (app/live/): the D435i-like
-// replay's delivery (time order, pace, packets, lost frames, stop), the video played as a camera.
+// The live sources of `adugs live` / `adugs record` on their own (app/live_sources.h chooses them
+// from data/sources/): the D435i-like replay's delivery (time order, pace, packets, lost frames, stop), the video played as a camera.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -10,10 +10,10 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "app/live/live_sources.h"
-#include "app/live/replay_source.h"
-#include "app/live/video_file_source.h"
+#include "app/live_sources.h"
 #include "data/input_error.h"
+#include "data/sources/replay_source.h"
+#include "data/sources/video_file_source.h"
 #include "tests/test_support.h"
 
 namespace adugs::app {
@@ -72,10 +72,10 @@ TEST(ReplaySource, DeliversInTimeOrderAtSensorPaceWithLateFramesAndImuPackets) {
   const double speed = 4;  // 3 s of sensor time in 0.75 s
   auto inner = std::make_unique<VectorSource>(3.0);
   const std::vector<data::Measurement> recorded = inner->all();
-  ReplayTiming timing;
+  data::ReplayTiming timing;
   timing.speed = speed;
   timing.frame_loss = 0;
-  ReplaySource replay(std::move(inner), timing);
+  data::ReplaySource replay(std::move(inner), timing);
   EXPECT_TRUE(replay.isLive());
   const std::vector<Delivered> got = drain(replay);
   ASSERT_EQ(got.size(), recorded.size());  // nothing lost at frame_loss 0
@@ -106,11 +106,11 @@ TEST(ReplaySource, DeliversInTimeOrderAtSensorPaceWithLateFramesAndImuPackets) {
 
 TEST(ReplaySource, LosesTheGivenFractionOfFramesAndCountsThem) {
   auto inner = std::make_unique<VectorSource>(20.0);
-  ReplayTiming timing;
+  data::ReplayTiming timing;
   timing.speed = 100;
   timing.frame_loss = 0.1;
   timing.seed = 7;
-  ReplaySource replay(std::move(inner), timing);
+  data::ReplaySource replay(std::move(inner), timing);
   const std::vector<Delivered> got = drain(replay);
   int frames = 0, imu = 0;
   for (const Delivered& d : got) (d.m.isFrame() ? frames : imu)++;
@@ -120,9 +120,9 @@ TEST(ReplaySource, LosesTheGivenFractionOfFramesAndCountsThem) {
 }
 
 TEST(ReplaySource, StopEndsAWaitingNextFromAnotherThread) {
-  ReplayTiming timing;
+  data::ReplayTiming timing;
   timing.speed = 0.01;  // 100 s per sensor second: next() waits long
-  ReplaySource replay(std::make_unique<VectorSource>(10.0), timing);
+  data::ReplaySource replay(std::make_unique<VectorSource>(10.0), timing);
   data::Measurement m;
   ASSERT_TRUE(replay.next(m));  // the first one comes at once
   std::thread stopper([&] {
@@ -150,7 +150,7 @@ TEST(VideoFileSource, PlaysAVideoAtItsFrameRateWithColourAndGrey) {
       w.write(f);
     }
   }
-  VideoFileSource video(path, 2.0);  // 25 Hz at 2x: 20 ms apart
+  data::VideoFileSource video(path, 2.0);  // 25 Hz at 2x: 20 ms apart
   EXPECT_EQ(video.width(), 160);
   EXPECT_EQ(video.height(), 120);
   EXPECT_NEAR(video.frameRateHz(), 25.0, 1e-6);

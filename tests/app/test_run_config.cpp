@@ -6,8 +6,8 @@
 
 #include "app/run_config.h"
 #include "data/builtin_config.h"
-#include "data/dataset_preset.h"
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sources/dataset_preset.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

@@ -15,14 +15,14 @@
 #include <string>
 #include <vector>
 
-#include "calib/allan_variance.h"
-#include "calib/imu_noise_verdict.h"
-#include "calib/camera_imu_input.h"
-#include "calib/camera_imu_report.h"
-#include "calib/camera_imu_verdict.h"
-#include "calib/corner_csv.h"
-#include "calib/intrinsics_calibrator.h"
-#include "calib/intrinsics_verdict.h"
+#include "calib/camera_imu/camera_imu_input.h"
+#include "calib/camera_imu/camera_imu_report.h"
+#include "calib/camera_imu/camera_imu_verdict.h"
+#include "calib/imu_noise/allan_variance.h"
+#include "calib/imu_noise/imu_noise_verdict.h"
+#include "calib/intrinsics/intrinsics_calibrator.h"
+#include "calib/intrinsics/intrinsics_verdict.h"
+#include "calib/target/corner_csv.h"
 #include "calib/text_format.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"

@@ -31,13 +31,13 @@
 #include <vector>
 
 #include "data/camera_model.h"
-#include "data/euroc_reader.h"
+#include "data/formats/trajectory_io.h"
+#include "data/formats/yaml_options.h"
 #include "data/input_error.h"
-#include "data/trajectory_io.h"
-#include "data/yaml_options.h"
+#include "data/sources/euroc_reader.h"
 #include "vio/estimator/sliding_window_estimator.h"
 #include "vio/frontend/feature_tracker.h"
-#include "vio/frontend/gyro_rotation_predictor.h"
+#include "vio/imu/gyro_rotation_predictor.h"
 
 using namespace adugs;
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "data/euroc_sensor_yaml.h"
+#include "data/formats/euroc_sensor_yaml.h"
 #include "tests/test_support.h"
 #include "vio/frontend/feature_tracker.h"
 

@@ -10,7 +10,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 
-#include "data/rosbag_source.h"
+#include "data/sources/rosbag_source.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -3,7 +3,7 @@
 // boxes; no PNG encoding). The figure goes to doc/simulator.md.
 #include <benchmark/benchmark.h>
 
-#include "data/sim_renderer.h"
+#include "data/sim/sim_renderer.h"
 #include "data/types.h"
 
 namespace {

@@ -23,12 +23,12 @@
 #include <vector>
 
 #include "data/camera_model.h"
-#include "data/euroc_reader.h"
-#include "data/sim_renderer.h"
-#include "data/sim_scene.h"
-#include "data/trajectory_io.h"
-#include "vio/frontend/feature_tracker.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sim/sim_renderer.h"
+#include "data/sim/sim_scene.h"
+#include "data/sources/euroc_reader.h"
 #include "vio/estimator/sliding_window_estimator.h"
+#include "vio/frontend/feature_tracker.h"
 
 using namespace adugs;
 

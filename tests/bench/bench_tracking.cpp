@@ -7,8 +7,8 @@
 
 #include "tests/test_support.h"
 #include "tests/tracking/simulated_street.h"
-#include "tracking/grabcut_segmenter.h"
-#include "tracking/sort_tracker.h"
+#include "tracking/segment/grabcut_segmenter.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::tracking {
 namespace {

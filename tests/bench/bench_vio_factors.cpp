@@ -15,9 +15,9 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
-#include "data/sim_imu.h"
-#include "data/sim_scene.h"
-#include "data/sim_trajectory.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_scene.h"
+#include "data/sim/sim_trajectory.h"
 #include "vio/estimator/imu_factor.h"
 #include "vio/estimator/marginalization.h"
 #include "vio/estimator/pose_manifold.h"

@@ -1,18 +1,18 @@
 #pragma once
 // Synthetic camera-IMU recordings for the tests: a smooth IMU trajectory above an AprilGrid
-// (data/sim_trajectory), exact-derivative IMU with EuRoC noise (data/sim_imu), and the board
+// (data/sim/sim_trajectory), exact-derivative IMU with EuRoC noise (data/sim/sim_imu), and the board
 // corners projected through a known T_C_I at t_imu = t_cam + shift, plus pixel noise.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include "calib/allan_variance.h"
-#include "calib/aprilgrid.h"
+#include "calib/imu_noise/allan_variance.h"
 #include "calib/kalibr_yaml.h"
-#include "calib/target_observation.h"
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
+#include "calib/target/aprilgrid.h"
+#include "calib/target/target_observation.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
 #include "tests/calib/synthetic_views.h"
 
 namespace adugs::calib::synth {

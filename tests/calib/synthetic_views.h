@@ -6,9 +6,9 @@
 
 #include <Eigen/Geometry>
 
-#include "calib/aprilgrid.h"
-#include "calib/camera_model.h"
-#include "calib/target_observation.h"
+#include "calib/pinhole_camera.h"
+#include "calib/target/aprilgrid.h"
+#include "calib/target/target_observation.h"
 
 namespace adugs::calib::synth {
 

@@ -1,5 +1,5 @@
-#include "calib/allan_variance.h"
-#include "calib/imu_noise_verdict.h"
+#include "calib/imu_noise/allan_variance.h"
+#include "calib/imu_noise/imu_noise_verdict.h"
 
 #include <filesystem>
 #include <random>
@@ -111,7 +111,7 @@ TEST(ImuNoiseVerdict, MovingRecordingFails) {
   const CalibrationVerdict v = judgeImuNoise(estimateImuNoise(readImuCsv(path.string())));
   EXPECT_EQ(v.verdict, Verdict::kFailed);
   EXPECT_TRUE(v.has("not static"));
-  if (!std::filesystem::exists(ADUGS_BINARY)) GTEST_SKIP() << "adugs not built";
+  if (!std::filesystem::exists(ADUGS_BINARY)) ADUGS_SKIP_OR_FAIL("adugs not built at " << ADUGS_BINARY);
   test::TempDir tmp("adugs_allan");
   std::string out;
   EXPECT_EQ(test::runAdugs("calib imu --imu " + path.string() + " --out " + tmp.path().string(), &out), 3)

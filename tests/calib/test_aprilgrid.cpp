@@ -1,10 +1,10 @@
-#include "calib/aprilgrid.h"
+#include "calib/target/aprilgrid.h"
 
 #include <filesystem>
 
 #include <gtest/gtest.h>
 
-#include "data/csv_reader.h"
+#include "data/formats/csv_reader.h"
 #include "tests/test_support.h"
 
 namespace adugs::calib {

@@ -1,4 +1,4 @@
-#include "calib/aprilgrid_detector.h"
+#include "calib/target/aprilgrid_detector.h"
 
 #include <fstream>
 #include <map>
@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "calib/aprilgrid_render.h"
+#include "calib/target/aprilgrid_render.h"
 #include "tests/test_support.h"
 
 namespace adugs::calib {

@@ -1,4 +1,4 @@
-#include "calib/aprilgrid_render.h"
+#include "calib/target/aprilgrid_render.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -7,8 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "calib/aprilgrid_detector.h"
-#include "calib/tag36h11.h"
+#include "calib/target/aprilgrid_detector.h"
+#include "calib/target/tag36h11.h"
 #include "calib/text_format.h"
 #include "tests/test_support.h"
 
@@ -68,7 +68,7 @@ TEST(AprilGridRender, RasterHasTheTagBordersWhereTheGeometrySaysAndAPdf) {
 // The PDF itself, rasterised by Ghostscript (when installed), is a detectable board with every
 // corner where the geometry says.
 TEST(AprilGridRender, GhostscriptRasterOfThePdfIsDetected) {
-  if (!std::filesystem::exists("/usr/bin/gs")) GTEST_SKIP() << "ghostscript not installed";
+  if (!std::filesystem::exists("/usr/bin/gs")) ADUGS_SKIP_OR_FAIL("ghostscript not installed (/usr/bin/gs)");
   AprilGrid g;
   test::TempDir tmp("adugs_pdf");
   const std::string pdf = (tmp / "board.pdf").string(), png = (tmp / "board.png").string();

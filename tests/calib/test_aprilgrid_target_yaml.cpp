@@ -1,4 +1,4 @@
-#include "calib/aprilgrid_target_yaml.h"
+#include "calib/target/aprilgrid_target_yaml.h"
 
 #include <gtest/gtest.h>
 

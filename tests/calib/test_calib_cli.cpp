@@ -5,8 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "calib/aprilgrid_target_yaml.h"
-#include "calib/corner_csv.h"
+#include "calib/target/aprilgrid_target_yaml.h"
+#include "calib/target/corner_csv.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 #define REQUIRE_ADUGS()                                                              \
   do {                                                                               \
-    if (!fs::exists(ADUGS_BINARY)) GTEST_SKIP() << "adugs not built at " << ADUGS_BINARY; \
+    if (!fs::exists(ADUGS_BINARY)) ADUGS_SKIP_OR_FAIL("adugs not built at " << ADUGS_BINARY); \
   } while (0)
 
 TEST(CalibCli, TargetWritesPngPdfAndYaml) {

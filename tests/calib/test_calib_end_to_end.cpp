@@ -8,12 +8,12 @@
 #include <opencv2/imgproc.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "calib/aprilgrid_detector.h"
-#include "calib/aprilgrid_render.h"
-#include "calib/aprilgrid_target_yaml.h"
-#include "calib/image_source.h"
-#include "calib/intrinsics_calibrator.h"
+#include "calib/intrinsics/intrinsics_calibrator.h"
+#include "calib/target/aprilgrid_detector.h"
+#include "calib/target/aprilgrid_render.h"
+#include "calib/target/aprilgrid_target_yaml.h"
 #include "data/input_error.h"
+#include "data/sources/image_source.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
 
@@ -101,11 +101,11 @@ TEST(CalibEndToEnd, RenderedImagesThroughTheCliRecoverTheCamera) {
   test::writeText(tmp / "target.yaml", formatAprilGridYaml(grid));
 
   // In-process: detection on every image finds most of the board.
-  ImageSource source((tmp / "images").string());
+  data::ImageSource source((tmp / "images").string());
   EXPECT_EQ(source.kind(), "folder");
   AprilGridDetector detector(grid);
   std::vector<TargetObservation> views;
-  ImageFrame frame;
+  data::ImageFrame frame;
   while (source.next(frame)) views.push_back(detector.detect(frame.gray, frame.t_ns));
   ASSERT_EQ(views.size(), poses.size());
   EXPECT_EQ(views[3].t_ns, 3000000000LL);  // names without a timestamp: 1 s apart
@@ -122,7 +122,7 @@ TEST(CalibEndToEnd, RenderedImagesThroughTheCliRecoverTheCamera) {
   EXPECT_LT(r.rms_px, 0.3);
 
   // The same through the command line.
-  if (!fs::exists(ADUGS_BINARY)) GTEST_SKIP() << "adugs not built";
+  if (!fs::exists(ADUGS_BINARY)) ADUGS_SKIP_OR_FAIL("adugs not built at " << ADUGS_BINARY);
   std::string out;
   ASSERT_EQ(test::runAdugs("calib intrinsics --target " + (tmp / "target.yaml").string() +
                                " --images " + (tmp / "images").string() + " --out " +
@@ -139,20 +139,20 @@ TEST(CalibEndToEnd, RenderedImagesThroughTheCliRecoverTheCamera) {
 TEST(ImageSource, ReadsAnEurocCameraFolderAndAVideo) {
   const auto euroc = test::sharedDataDir() / "euroc_v101_micro" / "mav0" / "cam0";
   if (fs::exists(euroc)) {
-    ImageSource s(euroc.string(), 10);
+    data::ImageSource s(euroc.string(), 10);
     EXPECT_EQ(s.kind(), "euroc");
     EXPECT_EQ(s.sizeHint(), 10u);
-    ImageFrame f;
+    data::ImageFrame f;
     ASSERT_TRUE(s.next(f));
     EXPECT_EQ(f.gray.cols, 752);
     EXPECT_GT(f.t_ns, 1400000000000000000LL);
   }
   const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
   if (fs::exists(video)) {
-    ImageSource s(video, 100);
+    data::ImageSource s(video, 100);
     EXPECT_EQ(s.kind(), "video");
     EXPECT_EQ(s.sizeHint(), 7u);  // 795 frames
-    ImageFrame f;
+    data::ImageFrame f;
     ASSERT_TRUE(s.next(f));
     EXPECT_EQ(f.gray.type(), CV_8UC1);
     EXPECT_EQ(f.t_ns, 0);
@@ -160,7 +160,7 @@ TEST(ImageSource, ReadsAnEurocCameraFolderAndAVideo) {
     EXPECT_EQ(f.name, video + "#100");
     EXPECT_EQ(f.t_ns, 10'000'000'000LL);  // 10 frames per second: each frame's own stream time
   }
-  EXPECT_THROW(ImageSource("/nonexistent/folder"), data::InputError);
+  EXPECT_THROW(data::ImageSource("/nonexistent/folder"), data::InputError);
 }
 
 }  // namespace

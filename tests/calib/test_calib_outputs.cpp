@@ -6,9 +6,9 @@
 #include <visp3/core/vpXmlParserCamera.h>
 #include <yaml-cpp/yaml.h>
 
-#include "calib/calibration_report.h"
+#include "calib/intrinsics/intrinsics_report.h"
+#include "calib/intrinsics/visp_camera_xml.h"
 #include "calib/kalibr_yaml.h"
-#include "calib/visp_camera_xml.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"
 

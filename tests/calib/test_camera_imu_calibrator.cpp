@@ -5,11 +5,11 @@
 #include <cmath>
 #include <filesystem>
 
-#include "calib/camera_imu_calibrator.h"
-#include "calib/camera_imu_input.h"
-#include "calib/camera_imu_report.h"
-#include "calib/camera_imu_verdict.h"
-#include "calib/corner_csv.h"
+#include "calib/camera_imu/camera_imu_calibrator.h"
+#include "calib/camera_imu/camera_imu_input.h"
+#include "calib/camera_imu/camera_imu_report.h"
+#include "calib/camera_imu/camera_imu_verdict.h"
+#include "calib/target/corner_csv.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/test_support.h"

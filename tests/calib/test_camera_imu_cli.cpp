@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "calib/corner_csv.h"
+#include "calib/target/corner_csv.h"
 #include "calib/text_format.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/test_support.h"
@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 #define REQUIRE_ADUGS()                                                                   \
   do {                                                                                    \
-    if (!fs::exists(ADUGS_BINARY)) GTEST_SKIP() << "adugs not built at " << ADUGS_BINARY; \
+    if (!fs::exists(ADUGS_BINARY)) ADUGS_SKIP_OR_FAIL("adugs not built at " << ADUGS_BINARY); \
   } while (0)
 
 // Writes the recording as the CLI reads it: corner CSVs, imu0.csv, a yac-style config.yaml.

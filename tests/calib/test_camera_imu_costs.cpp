@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "calib/camera_imu_costs.h"
+#include "calib/camera_imu/camera_imu_costs.h"
 #include "tests/calib/synthetic_views.h"
 
 namespace adugs::calib {

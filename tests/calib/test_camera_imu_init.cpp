@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "calib/camera_imu_init.h"
+#include "calib/camera_imu/camera_imu_init.h"
 
 namespace adugs::calib {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "calib/camera_imu_input.h"
-#include "calib/camera_imu_report.h"
+#include "calib/camera_imu/camera_imu_input.h"
+#include "calib/camera_imu/camera_imu_report.h"
 #include "data/input_error.h"
 #include "tests/calib/synthetic_views.h"
 #include "tests/test_support.h"

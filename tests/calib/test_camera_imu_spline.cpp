@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "calib/camera_imu_spline.h"
+#include "calib/camera_imu/camera_imu_spline.h"
 
 namespace adugs::calib {
 namespace {

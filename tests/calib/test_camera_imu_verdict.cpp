@@ -1,14 +1,14 @@
 // The camera-IMU verdict: each plausibility check on a hand-made result, and the documented
 // verdicts of the degenerate recordings (issue 18): the first 3 s of EuRoC imu_april, a rig that
 // never moves, planar motion, an IMU that covers half the frames.
-#include "calib/camera_imu_verdict.h"
+#include "calib/camera_imu/camera_imu_verdict.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "calib/camera_imu_input.h"
-#include "calib/corner_csv.h"
+#include "calib/camera_imu/camera_imu_input.h"
+#include "calib/target/corner_csv.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
 #include "tests/test_support.h"

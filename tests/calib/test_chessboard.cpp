@@ -1,12 +1,13 @@
-#include "calib/chessboard.h"
+#include "calib/target/chessboard.h"
 
 #include <filesystem>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "calib/intrinsics_calibrator.h"
+#include "calib/intrinsics/intrinsics_calibrator.h"
 #include "calib/text_format.h"
+#include "tests/test_support.h"
 
 namespace adugs::calib {
 namespace {
@@ -27,7 +28,7 @@ TEST(Chessboard, ParsesTheCommandLineSpec) {
 // not exactly our model: 1 % on f, 2 px on the principal point).
 TEST(Chessboard, CalibratesOpenCvsLeftImages) {
   const std::string dir = "/usr/share/doc/opencv-doc/examples/data/";
-  if (!std::filesystem::exists(dir + "left01.jpg")) GTEST_SKIP() << "opencv-doc not installed";
+  if (!std::filesystem::exists(dir + "left01.jpg")) ADUGS_SKIP_OR_FAIL("opencv-doc not installed (" << dir << ")");
   const Chessboard board{9, 6, 0.025};
   std::vector<TargetObservation> views;
   for (int i = 1; i <= 14; ++i) {

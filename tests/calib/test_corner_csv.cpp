@@ -1,4 +1,4 @@
-#include "calib/corner_csv.h"
+#include "calib/target/corner_csv.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "calib/intrinsics_calibrator.h"
-#include "calib/calibration_report.h"
-#include "calib/intrinsics_verdict.h"
+#include "calib/intrinsics/intrinsics_calibrator.h"
+#include "calib/intrinsics/intrinsics_report.h"
+#include "calib/intrinsics/intrinsics_verdict.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
-#include "calib/corner_csv.h"
+#include "calib/target/corner_csv.h"
 #include "data/camera_model.h"
 #include "data/input_error.h"
 #include "tests/calib/camera_imu_synthetic.h"
@@ -176,7 +176,7 @@ class EurocCamApril : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = test::sharedDataDir() / "euroc_calib_aprilgrid" / "cam_april" / "cam0";
-    if (!std::filesystem::exists(dir_)) GTEST_SKIP() << "shared data not found at " << dir_;
+    ADUGS_REQUIRE_SHARED(dir_);
     views_ = readCornerCsvs(dir_.string(), nullptr);
   }
   std::filesystem::path dir_;

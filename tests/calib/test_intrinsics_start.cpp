@@ -1,7 +1,7 @@
 // The start of the intrinsic calibration: focal candidates from the board's vanishing points,
 // their score, and that the start stays inside the plausible range where a plain homography
 // estimate runs away (issue 18: "initial focal 8106.3 px" on near-still views).
-#include "calib/intrinsics_start.h"
+#include "calib/intrinsics/intrinsics_start.h"
 
 #include <gtest/gtest.h>
 

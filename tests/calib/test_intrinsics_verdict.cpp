@@ -1,6 +1,6 @@
 // The intrinsics verdict: coverage and tilt measured on hand-made cases, the lens-model fold, each
 // plausibility check turning a result into `failed`, and how a verdict is written.
-#include "calib/intrinsics_verdict.h"
+#include "calib/intrinsics/intrinsics_verdict.h"
 
 #include <gtest/gtest.h>
 

@@ -15,7 +15,7 @@
 
 #include "data/camera_model.h"
 #include "data/input_error.h"
-#include "data/sim_camera.h"
+#include "data/sim/sim_camera.h"
 
 namespace adugs::data {
 namespace {

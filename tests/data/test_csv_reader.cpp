@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "data/csv_reader.h"
+#include "data/formats/csv_reader.h"
 #include "data/input_error.h"
 #include "tests/test_support.h"
 

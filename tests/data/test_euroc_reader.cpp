@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "data/euroc_reader.h"
 #include "data/input_error.h"
+#include "data/sources/euroc_reader.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "data/euroc_sensor_yaml.h"
+#include "data/formats/euroc_sensor_yaml.h"
 #include "data/input_error.h"
 #include "tests/test_support.h"
 

@@ -2,8 +2,8 @@
 // cases.
 #include <gtest/gtest.h>
 
-#include "data/imu_unifier.h"
-#include "data/stamp_reorder_buffer.h"
+#include "data/sources/imu_unifier.h"
+#include "data/sources/stamp_reorder_buffer.h"
 
 namespace adugs::data {
 namespace {

@@ -2,9 +2,9 @@
 // conversion T_B_C = T_cam_imu^-1, and errors naming file and key.
 #include <gtest/gtest.h>
 
-#include "data/dataset_preset.h"
+#include "data/formats/kalibr_calibration.h"
 #include "data/input_error.h"
-#include "data/kalibr_calibration.h"
+#include "data/sources/dataset_preset.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

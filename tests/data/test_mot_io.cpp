@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "data/formats/mot_io.h"
 #include "data/input_error.h"
-#include "data/mot_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

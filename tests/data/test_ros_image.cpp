@@ -4,7 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "data/input_error.h"
-#include "data/ros_image.h"
+#include "data/sources/ros_image.h"
 
 namespace adugs::data {
 namespace {

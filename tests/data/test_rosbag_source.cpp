@@ -13,14 +13,14 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 
-#include "data/dataset_preset.h"
-#include "data/euroc_reader.h"
+#include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
-#include "data/rosbag_ground_truth.h"
-#include "data/rosbag_info.h"
-#include "data/rosbag_source.h"
-#include "data/sim_sequence.h"
-#include "data/trajectory_io.h"
+#include "data/sim/sim_sequence.h"
+#include "data/sources/dataset_preset.h"
+#include "data/sources/euroc_reader.h"
+#include "data/sources/rosbag_ground_truth.h"
+#include "data/sources/rosbag_info.h"
+#include "data/sources/rosbag_source.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

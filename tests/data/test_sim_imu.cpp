@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
 
 namespace adugs::data {
 namespace {

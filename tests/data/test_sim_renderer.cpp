@@ -8,8 +8,8 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "data/sim_random.h"
-#include "data/sim_renderer.h"
+#include "data/sim/sim_random.h"
+#include "data/sim/sim_renderer.h"
 #include "data/types.h"
 
 namespace adugs::data {

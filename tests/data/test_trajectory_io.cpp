@@ -4,8 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
-#include "data/trajectory_io.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "data/formats/yaml_options.h"
 #include "data/input_error.h"
-#include "data/yaml_options.h"
 #include "tests/test_support.h"
 
 namespace adugs::data {

@@ -11,10 +11,10 @@
 #include <string>
 #include <unistd.h>
 
-#include "data/csv_reader.h"
-#include "data/euroc_reader.h"
-#include "data/euroc_sensor_yaml.h"
+#include "data/formats/csv_reader.h"
+#include "data/formats/euroc_sensor_yaml.h"
 #include "data/input_error.h"
+#include "data/sources/euroc_reader.h"
 
 namespace {
 namespace fs = std::filesystem;

@@ -1,5 +1,5 @@
 // libFuzzer target: arbitrary bytes as an ONNX model for the hand-written protobuf reader that
-// checks model signatures before OpenCV's importer runs (tracking/onnx_signature).
+// checks model signatures before OpenCV's importer runs (tracking/detect/onnx_signature).
 // InputError is the expected outcome for bad input; any other exception, a crash, a hang or a
 // sanitizer report is a bug.
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "data/input_error.h"
-#include "tracking/onnx_signature.h"
+#include "tracking/detect/onnx_signature.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);

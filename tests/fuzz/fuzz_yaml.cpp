@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "data/euroc_sensor_yaml.h"
+#include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/yaml_options.h"
 #include "data/input_error.h"
-#include "data/yaml_options.h"
 
 namespace {
 using namespace adugs::data;

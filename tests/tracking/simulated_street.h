@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "data/mot_io.h"
-#include "data/sim_sequence.h"
+#include "data/formats/mot_io.h"
+#include "data/sim/sim_sequence.h"
 #include "tracking/box.h"
 
 namespace adugs::tracking::test_support {

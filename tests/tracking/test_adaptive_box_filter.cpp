@@ -3,7 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "tracking/adaptive_box_filter.h"
+#include "tracking/sort/adaptive_box_filter.h"
 
 namespace adugs::tracking {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "tracking/appearance.h"
-#include "tracking/sort_tracker.h"
+#include "tracking/sort/appearance.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::tracking {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "tests/test_support.h"
 #include "tests/tracking/simulated_street.h"
-#include "tracking/grabcut_segmenter.h"
+#include "tracking/segment/grabcut_segmenter.h"
 
 namespace adugs::tracking {
 namespace {

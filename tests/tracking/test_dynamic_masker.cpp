@@ -7,9 +7,12 @@
 #include <random>
 
 #include "tests/test_support.h"
+#include "data/formats/yaml_options.h"
+#include "data/input_error.h"
 #include "tests/tracking/simulated_street.h"
 #include "tracking/dynamic_masker.h"
-#include "tracking/grabcut_segmenter.h"
+#include "tracking/dynamic_masker_options.h"
+#include "tracking/segment/grabcut_segmenter.h"
 
 namespace adugs::tracking {
 namespace {
@@ -78,8 +81,7 @@ TEST(DynamicMasker, DetectingEveryThirdFrameCarriesTheMaskBetween) {
     for (int f = 1; f <= frames; ++f) {
       const cv::Mat image = cv::imread(street.imagePath(f), cv::IMREAD_GRAYSCALE);
       DynamicMaskResult r;
-      if (masker.detectionDue()) {
-        EXPECT_EQ((f - 1) % every, 0) << "frame " << f;
+      if (isDetectionFrame(f - 1, every)) {
         ++detector_calls;
         std::vector<Detection> dets;
         for (const Box& b : street.visibleBoxes(f, 0.4)) dets.push_back({b, 0});
@@ -136,6 +138,56 @@ TEST(DynamicMasker, EmptyFramesGiveAnEmptyMaskAndNullSegmenterIsRefused) {
   EXPECT_EQ(cv::countNonZero(r.mask), 0);
   EXPECT_TRUE(r.objects.empty());
   EXPECT_THROW(DynamicMasker(DynamicMaskerOptions{}, nullptr), std::invalid_argument);
+}
+
+// The one detect-every rule: frames 0, n, 2n, ... (the detection stage, the masker's callers and
+// `adugs track` all ask it).
+TEST(DynamicMaskerOptions, DetectionFramesAreEveryNthFromTheFirst) {
+  std::vector<int> frames;
+  for (int i = 0; i < 10; ++i)
+    if (isDetectionFrame(i, 3)) frames.push_back(i);
+  EXPECT_EQ(frames, (std::vector<int>{0, 3, 6, 9}));
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(isDetectionFrame(i, 1));
+}
+
+// The one reader of the `dynamic:` map: every key reaches its field (including the association
+// stages that were flags of `adugs track` only), and a value out of range names the key.
+TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
+  data::YamlOptionsReader r = data::YamlOptionsReader::fromString(
+      "detect_every: 3\nnoise: fixed\nmax_age: 7\nmin_hits: 1\niou_min: 0.2\nbeta_pos: 64\n"
+      "erode_radius_px: 2\ndilate_radius_px: 9\nsegment_every: 4\ncamera_motion_compensation: true\n"
+      "high_score: 0.5\nlow_iou_min: 0.4\ndirection_weight: 0.2\ndirection_frames: 5\nrecovery: true\n"
+      "last_box_association: true\ndrop_unconfirmed: true\n",
+      "dynamic.yaml");
+  DynamicMaskerOptions o;
+  readDynamicMaskerOptions(r, &o);
+  r.finish();
+  EXPECT_EQ(o.detect_every, 3);
+  EXPECT_EQ(o.sort.filter.lambda, 1e6);  // noise: fixed saturates the erf: R = beta
+  EXPECT_EQ(o.sort.max_age, 7);
+  EXPECT_EQ(o.sort.min_hits, 1);
+  EXPECT_DOUBLE_EQ(o.sort.iou_min, 0.2);
+  EXPECT_DOUBLE_EQ(o.sort.filter.beta_pos, 64);
+  EXPECT_EQ(o.refinement.erode_radius_px, 2);
+  EXPECT_EQ(o.refinement.dilate_radius_px, 9);
+  EXPECT_EQ(o.segment_every, 4);
+  EXPECT_TRUE(o.camera_motion_compensation);
+  EXPECT_DOUBLE_EQ(o.sort.high_score, 0.5);
+  EXPECT_DOUBLE_EQ(o.sort.low_iou_min, 0.4);
+  EXPECT_DOUBLE_EQ(o.sort.direction_weight, 0.2);
+  EXPECT_EQ(o.sort.direction_frames, 5);
+  EXPECT_TRUE(o.sort.observation_centric_recovery);
+  EXPECT_TRUE(o.sort.last_box_association);
+  EXPECT_TRUE(o.sort.drop_unconfirmed_on_miss);
+
+  data::YamlOptionsReader bad = data::YamlOptionsReader::fromString("direction_frames: 0\n", "dynamic.yaml");
+  try {
+    readDynamicMaskerOptions(bad, &o);
+    FAIL() << "direction_frames: 0 accepted";
+  } catch (const data::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dynamic.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("direction_frames"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
-// HOTA against hand-worked cases (the formulas in tracking/hota.h). The same cases give the same
+// HOTA against hand-worked cases (the formulas in tracking/eval/hota.h). The same cases give the same
 // values through TrackEval's own hota.py (checked outside CI, doc/results.md), and
 // CmdEvalMot.HotaReproducesTrackEvalOnTud checks real tracker output against TrackEval's figures.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "tracking/hota.h"
+#include "tracking/eval/hota.h"
 
 namespace adugs::tracking {
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "tracking/hungarian.h"
+#include "tracking/sort/hungarian.h"
 
 namespace adugs::tracking {
 namespace {

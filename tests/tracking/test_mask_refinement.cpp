@@ -1,4 +1,4 @@
-#include "tracking/mask_refinement.h"
+#include "tracking/segment/mask_refinement.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>

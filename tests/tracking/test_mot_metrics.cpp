@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "tracking/mot_metrics.h"
+#include "tracking/eval/mot_metrics.h"
 
 namespace adugs::tracking {
 namespace {

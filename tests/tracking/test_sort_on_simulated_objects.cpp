@@ -11,8 +11,8 @@
 
 #include "tests/test_support.h"
 #include "tests/tracking/simulated_street.h"
-#include "tracking/mot_metrics.h"
-#include "tracking/sort_tracker.h"
+#include "tracking/eval/mot_metrics.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::tracking {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <map>
 
-#include "tracking/sort_tracker.h"
+#include "tracking/sort/sort_tracker.h"
 
 namespace adugs::tracking {
 namespace {

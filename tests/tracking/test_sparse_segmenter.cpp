@@ -9,9 +9,9 @@
 #include "tests/test_support.h"
 #include "tests/tracking/simulated_street.h"
 #include "tracking/dynamic_masker.h"
-#include "tracking/grabcut_segmenter.h"
-#include "tracking/mask_refinement.h"
-#include "tracking/sparse_segmenter.h"
+#include "tracking/segment/grabcut_segmenter.h"
+#include "tracking/segment/mask_refinement.h"
+#include "tracking/segment/sparse_segmenter.h"
 
 namespace adugs::tracking {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "tracking/yolox_detector.h"
+#include "tracking/detect/yolox_detector.h"
 
 namespace adugs::tracking {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
 // Synthetic initialization windows for the initializer tests: a SineTrajectory with real
 // excitation (about 0.7 m and 20 deg over 2 s), a forward-looking camera, random points in front of
-// it, exact (or noisy) normalised projections and the IMU of data/sim_imu preintegrated between
+// it, exact (or noisy) normalised projections and the IMU of data/sim/sim_imu preintegrated between
 // the frames.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
 #include "vio/init/visual_inertial_initializer.h"
 
 namespace adugs::vio::test {

@@ -10,10 +10,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "data/euroc_reader.h"
-#include "data/euroc_sensor_yaml.h"
-#include "data/sim_sequence.h"
-#include "data/trajectory_io.h"
+#include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sim/sim_sequence.h"
+#include "data/sources/euroc_reader.h"
 #include "tests/test_support.h"
 #include "vio/frontend/feature_tracker.h"
 

@@ -8,9 +8,9 @@
 #include <algorithm>
 #include <map>
 
-#include "data/sim_renderer.h"
+#include "data/sim/sim_renderer.h"
+#include "data/sim/sim_scene.h"
 #include "data/types.h"
-#include "data/sim_scene.h"
 #include "vio/frontend/feature_tracker.h"
 
 namespace adugs::vio {

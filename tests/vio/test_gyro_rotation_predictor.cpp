@@ -1,7 +1,7 @@
-// The front-end's gyro-only rotation prediction (vio/frontend/gyro_rotation_predictor.h).
+// The front-end's gyro-only rotation prediction (vio/imu/gyro_rotation_predictor.h).
 #include <gtest/gtest.h>
 
-#include "vio/frontend/gyro_rotation_predictor.h"
+#include "vio/imu/gyro_rotation_predictor.h"
 
 namespace adugs::vio {
 namespace {

@@ -10,8 +10,8 @@
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
 #include "tests/vio/jacobian_check.h"
 #include "vio/estimator/pose_manifold.h"
 #include "vio/imu/so3.h"

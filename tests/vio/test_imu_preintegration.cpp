@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
 #include "vio/imu/imu_preintegration.h"
 #include "vio/imu/so3.h"
 

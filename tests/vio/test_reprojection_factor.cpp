@@ -11,7 +11,7 @@
 #include <ceres/solver.h>
 #include <gtest/gtest.h>
 
-#include "data/sim_scene.h"
+#include "data/sim/sim_scene.h"
 #include "tests/vio/jacobian_check.h"
 #include "vio/estimator/pose_manifold.h"
 #include "vio/imu/so3.h"

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "data/euroc_reader.h"
-#include "data/sim_imu.h"
-#include "data/sim_trajectory.h"
-#include "data/trajectory_io.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sim/sim_imu.h"
+#include "data/sim/sim_trajectory.h"
+#include "data/sources/euroc_reader.h"
 #include "tests/test_support.h"
 #include "vio/init/static_initializer.h"
 

@@ -91,7 +91,7 @@ TEST(VisualInertialInitializer, NoisyImagesAndImuStayAccurate) {
     test::InitSceneOptions options;
     options.gyro_bias = Eigen::Vector3d(0.01, -0.02, 0.015);
     options.pixel_noise = 0.5;
-    options.imu_noise = true;  // EuRoC densities (data/sim_imu defaults)
+    options.imu_noise = true;  // EuRoC densities (data/sim/sim_imu defaults)
     options.seed = seed;
     test::InitScene scene = test::makeInitScene(options);
     const InitResult r = initializeVisualInertial(scene.frames, scene.T_B_C);

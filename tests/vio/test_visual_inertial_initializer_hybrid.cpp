@@ -6,9 +6,10 @@
 #include <cstdio>
 #include <random>
 
-#include "data/euroc_sensor_yaml.h"
-#include "data/sim_hybrid.h"
-#include "data/trajectory_io.h"
+#include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/imu_csv.h"
+#include "data/formats/trajectory_io.h"
+#include "data/sim/sim_hybrid.h"
 #include "tests/test_support.h"
 #include "vio/init/visual_inertial_initializer.h"
 

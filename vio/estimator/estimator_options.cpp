@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "data/yaml_options.h"
+#include "data/formats/yaml_options.h"
 
 namespace adugs::vio {
 

@@ -68,7 +68,7 @@ struct EstimatorOptions {
   // Frames (counted like window_size) the window holds while it waits for the visual-inertial
   // initialisation; at most window_size. After it the window grows to window_size. A longer SfM
   // window spans more of the movers' motion: with 15, two of eighteen room/high runs started at
-  // a fifth of the true scale and never recovered (doc/results.md, "The initialisation window").
+  // a fifth of the true scale and never recovered (doc/history.md, "The initialisation window").
   int init_window_size = 10;
   // After a reset (not an IMU gap), the last estimated state is carried by the IMU alone through
   // the outage; the re-initialised window is placed where it says (position and yaw, which the

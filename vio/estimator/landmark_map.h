@@ -10,7 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "vio/frontend/feature_tracker.h"
+#include "vio/frontend/frame_features.h"
 
 namespace adugs::vio {
 

@@ -8,25 +8,22 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "data/elapsed_time.h"
 #include "vio/estimator/imu_factor.h"
 #include "vio/estimator/pose_manifold.h"
 #include "vio/estimator/pose_prior_factor.h"
 #include "vio/estimator/reprojection_factor.h"
 #include "vio/estimator/scalar_prior_factor.h"
 #include "vio/estimator/window_solver.h"
+#include "vio/estimator/zero_velocity_factor.h"
 #include "vio/imu/so3.h"
 #include "vio/init/static_initializer.h"
 #include "vio/init/visual_inertial_initializer.h"
-#include "vio/estimator/zero_velocity_factor.h"
 
 namespace adugs::vio {
 namespace {
 
 const PoseManifold kPoseManifold;
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 void setSpeedBias(const Eigen::Vector3d& v, const Eigen::Vector3d& ba, const Eigen::Vector3d& bg,
                   double* sb) {
@@ -458,7 +455,7 @@ void SlidingWindowEstimator::solve() {
     }
     ++it;
   }
-  stats_.solve_ms.push_back(msSince(t0));
+  stats_.solve_ms.push_back(data::msSince(t0));
 }
 
 void SlidingWindowEstimator::rejectOutliers() {
@@ -597,7 +594,7 @@ void SlidingWindowEstimator::slideWindow() {
     marginalizeOldest();
   else
     dropSecondNewest();
-  stats_.marginalization_ms.push_back(msSince(t0));
+  stats_.marginalization_ms.push_back(data::msSince(t0));
 }
 
 void SlidingWindowEstimator::setCalibrationRoles(Marginalizer* m) const {

@@ -1,9 +1,10 @@
 #pragma once
-// The monocular visual-inertial estimator of DESIGN.md (VINS-Mono's back-end): a sliding window
-// of frames with IMU preintegration between consecutive ones, landmarks as inverse depths in
-// their host frame, a Ceres bundle adjustment over reprojection (robust), IMU and marginalisation
-// prior factors, and marginalisation of the oldest frame (when the second-newest is a keyframe by
-// parallax) or dropping of the second-newest (when it adds nothing).
+// The monocular visual-inertial estimator of doc/architecture.md "The method" (VINS-Mono's
+// back-end): a sliding window of frames with IMU preintegration between consecutive ones, landmarks
+// as inverse depths in their host frame, Ceres cost functions for reprojection (robust), IMU and
+// marginalisation prior factors solved by the project's own Levenberg-Marquardt
+// (vio/estimator/window_solver.h), and marginalisation of the oldest frame (when the second-newest
+// is a keyframe by parallax) or dropping of the second-newest (when it adds nothing).
 //
 // Per frame: preintegrate the IMU since the previous frame, predict the new state, add the
 // features. Not initialised: try the static initialiser (quiet IMU, no image motion), then the
@@ -27,10 +28,10 @@
 
 #include "data/types.h"
 #include "vio/estimator/estimator_options.h"
-#include "vio/frontend/feature_tracker.h"
-#include "vio/imu/imu_preintegration.h"
 #include "vio/estimator/landmark_map.h"
 #include "vio/estimator/marginalization.h"
+#include "vio/frontend/frame_features.h"
+#include "vio/imu/imu_preintegration.h"
 
 namespace ceres {
 class CostFunction;

@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "data/atomic_file.h"
+#include "data/formats/atomic_file.h"
 #include "data/input_error.h"
 
 namespace adugs::vio {

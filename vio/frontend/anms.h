@@ -1,5 +1,6 @@
 #pragma once
-// Adaptive non-maximal suppression (ANMS) of detected keypoints, as DESIGN.md defines it:
+// Adaptive non-maximal suppression (ANMS) of detected keypoints, as doc/architecture.md ("The
+// method") defines it:
 //   rho_i = min ||p_i - p_j|| over all keypoints j with response r_j > r_i   (strictly stronger)
 //   rho_i = +inf when no keypoint is stronger (the strongest, and ties with it)
 // then keep the keypoints with the largest radii while enforcing a minimum distance D_min to the

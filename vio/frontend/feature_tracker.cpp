@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "data/elapsed_time.h"
 #include "vio/frontend/anms.h"
 #include "vio/frontend/feature_detector.h"
 #include "vio/frontend/feature_ransac.h"
@@ -17,10 +18,6 @@ namespace adugs::vio {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 bool isDynamic(const cv::Mat& mask, const cv::Point2f& p) {
   if (mask.empty()) return false;
@@ -114,7 +111,7 @@ FrameFeatures FeatureTracker::trackFrame(int64_t t_ns, const cv::Mat& image, con
   current_ = out;
   has_prev_ = true;
   has_prediction_ = false;
-  stats_.total_ms = msSince(t0);
+  stats_.total_ms = data::msSince(t0);
   return out;
 }
 
@@ -154,7 +151,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
     cur.push_back(fwd[k]);
   }
   stats_.lost_klt = static_cast<int>(n - cur.size());
-  stats_.klt_ms = msSince(t);
+  stats_.klt_ms = data::msSince(t);
 
   // 2. Forward-backward check.
   t = Clock::now();
@@ -184,7 +181,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
     stats_.rejected_fb = static_cast<int>(cur.size() - w);
     src.resize(w), cur.resize(w);
   }
-  stats_.fb_ms = msSince(t);
+  stats_.fb_ms = data::msSince(t);
 
   // 3. Dynamic points out (counted: r), 4. RANSAC on the static rest.
   t = Clock::now();
@@ -210,7 +207,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
     ro.confidence = options_.ransac_confidence;
     inlier = fundamentalInliers(a, b, ro);
   }
-  stats_.ransac_ms = msSince(t);
+  stats_.ransac_ms = data::msSince(t);
   t = Clock::now();
   const double dt = 1e-9 * static_cast<double>(out->t_ns - prev.t_ns);
   for (size_t j = 0; j < stat.size(); ++j) {
@@ -239,7 +236,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
   }
   stats_.rejected_outliers = stats_.rejected_fb + stats_.rejected_ransac;
   stats_.tracked = static_cast<int>(out->size()) + stats_.dropped_dynamic;
-  stats_.anchor_ms = msSince(t);
+  stats_.anchor_ms = data::msSince(t);
 }
 
 FeatureTracker::Anchor FeatureTracker::makeAnchor(const cv::Mat& image, const cv::Point2f& p) const {
@@ -292,7 +289,7 @@ void FeatureTracker::detect(const cv::Mat& image, const cv::Mat& mask, FrameFeat
   }
   std::vector<cv::KeyPoint> candidates;
   detectOrbCorners(image, detection_mask_, options_, &candidates);
-  stats_.detect_ms = msSince(t);
+  stats_.detect_ms = data::msSince(t);
 
   t = Clock::now();
   const std::vector<int> chosen =
@@ -308,7 +305,7 @@ void FeatureTracker::detect(const cv::Mat& image, const cv::Mat& mask, FrameFeat
     next_anchors_.push_back(makeAnchor(image, p));
   }
   stats_.new_points = static_cast<int>(chosen.size());
-  stats_.anms_ms = msSince(t);
+  stats_.anms_ms = data::msSince(t);
 }
 
 }  // namespace adugs::vio

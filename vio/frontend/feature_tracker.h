@@ -1,6 +1,6 @@
 #pragma once
-// The visual front-end of DESIGN.md: KLT tracking frame to frame, removal of features on dynamic
-// objects, and compensation with new ORB/FAST corners spread by ANMS.
+// The visual front-end of doc/architecture.md ("The method"): KLT tracking frame to frame, removal
+// of features on dynamic objects, and compensation with new ORB/FAST corners spread by ANMS.
 //
 // trackFrame(t, image, mask), per frame:
 //   1. pyramidal KLT (ViSP vpKltOpencv) of the previous features into the image, from their old
@@ -27,20 +27,9 @@
 #include "data/camera_model.h"
 #include "vio/frontend/anchor_patch.h"
 #include "vio/frontend/feature_tracker_options.h"
+#include "vio/frontend/frame_features.h"
 
 namespace adugs::vio {
-
-// The features of one frame, index-aligned.
-struct FrameFeatures {
-  int64_t t_ns = 0;
-  std::vector<int64_t> ids;                 // stable across frames, never reused
-  std::vector<cv::Point2f> pixels;          // distorted pixel positions in this image
-  std::vector<cv::Point2f> prev_pixels;     // position in the previous frame (= pixels if new)
-  std::vector<Eigen::Vector2d> normalized;  // undistorted normalised (x/z, y/z)
-  std::vector<int> track_counts;            // frames seen, this one included (1 = new)
-  std::vector<Eigen::Vector2d> velocities;  // d(normalized)/dt [1/s]; zero for new points
-  size_t size() const { return ids.size(); }
-};
 
 struct FrameStats {
   int64_t t_ns = 0;

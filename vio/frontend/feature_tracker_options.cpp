@@ -1,6 +1,6 @@
 #include "vio/frontend/feature_tracker_options.h"
 
-#include "data/yaml_options.h"
+#include "data/formats/yaml_options.h"
 
 namespace adugs::vio {
 

@@ -16,10 +16,10 @@
 #include <thread>
 
 #include "app/asl_recorder.h"
-#include "app/live/live_sources.h"
+#include "app/live_sources.h"
 #include "app/run_pipeline.h"
 #include "app/source_lost.h"
-#include "tests/app/live/fake_d435i.h"
+#include "tests/data/live/fake_d435i.h"
 #include "tests/test_support.h"
 
 namespace adugs::test {

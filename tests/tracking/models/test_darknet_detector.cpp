@@ -9,8 +9,8 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "tracking/darknet_detector.h"
-#include "tracking/detector_factory.h"
+#include "tracking/detect/darknet_detector.h"
+#include "tracking/detect/detector_factory.h"
 
 namespace adugs::tracking {
 namespace {

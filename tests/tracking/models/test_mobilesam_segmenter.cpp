@@ -15,9 +15,9 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "tracking/mobilesam_segmenter.h"
-#include "tracking/sam_transforms.h"
-#include "tracking/segmenter_factory.h"
+#include "tracking/segment/mobilesam_segmenter.h"
+#include "tracking/segment/sam_transforms.h"
+#include "tracking/segment/segmenter_factory.h"
 
 namespace adugs::tracking {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "tracking/detector_factory.h"
-#include "tracking/ultralytics_onnx_detector.h"
+#include "tracking/detect/detector_factory.h"
+#include "tracking/detect/ultralytics_onnx_detector.h"
 
 namespace adugs::tracking {
 namespace {

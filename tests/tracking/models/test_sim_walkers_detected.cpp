@@ -1,4 +1,4 @@
-// The simulator's walkers (cut-outs of real people from vtest.avi, data/sim_sprite.h) are what
+// The simulator's walkers (cut-outs of real people from vtest.avi, data/sim/sim_sprite.h) are what
 // makes the detector chain testable in simulation: a real detector must recognise them, which it
 // does not for the textured boxes that stood for people before.
 #include <gtest/gtest.h>
@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
+#include "data/formats/mot_io.h"
 #include "data/input_error.h"
-#include "data/mot_io.h"
-#include "data/sim_sequence.h"
-#include "data/sim_sprite.h"
+#include "data/sim/sim_sequence.h"
+#include "data/sim/sim_sprite.h"
 #include "tests/test_support.h"
-#include "tracking/detector_factory.h"
+#include "tracking/detect/detector_factory.h"
 
 namespace adugs::tracking {
 namespace {

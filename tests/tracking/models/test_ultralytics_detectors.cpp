@@ -12,11 +12,11 @@
 
 #include "data/input_error.h"
 #include "tests/test_support.h"
-#include "tracking/detector_factory.h"
-#include "tracking/letterbox.h"
-#include "tracking/onnx_signature.h"
-#include "tracking/torchscript_detector.h"
-#include "tracking/ultralytics_output.h"
+#include "tracking/detect/detector_factory.h"
+#include "tracking/detect/letterbox.h"
+#include "tracking/detect/onnx_signature.h"
+#include "tracking/detect/torchscript_detector.h"
+#include "tracking/detect/ultralytics_output.h"
 
 namespace adugs::tracking {
 namespace {

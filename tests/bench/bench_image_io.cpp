@@ -1,0 +1,80 @@
+// Reading the real EuRoC PNGs (752x480, 8-bit grey; ../shared/data/euroc_v101_micro) into the
+// cv::Mat the front-end tracks on: OpenCV's cv::imread (what the readers use) against ViSP's
+// display-less vpImageIo (its default backend, then converted to cv::Mat), and writing them back
+// as PNG both ways. items_per_second = images per second on one core.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+#include <visp3/core/vpImageConvert.h>
+#include <visp3/io/vpImageIo.h>
+
+#include "tests/test_support.h"
+
+namespace {
+
+std::vector<std::string> eurocImages() {
+  std::vector<std::string> paths;
+  const std::filesystem::path dir = adugs::test::sharedDataDir() / "euroc_v101_micro/mav0/cam0/data";
+  if (!std::filesystem::is_directory(dir)) return paths;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) paths.push_back(e.path().string());
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+void BM_ReadOpenCv(benchmark::State& state) {
+  const std::vector<std::string> paths = eurocImages();
+  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
+  size_t i = 0;
+  for (auto _ : state) {
+    cv::Mat image = cv::imread(paths[i++ % paths.size()], cv::IMREAD_GRAYSCALE);
+    benchmark::DoNotOptimize(image.data);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_ReadVispImageIo(benchmark::State& state) {
+  const std::vector<std::string> paths = eurocImages();
+  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
+  size_t i = 0;
+  vpImage<unsigned char> image;
+  for (auto _ : state) {
+    vpImageIo::read(image, paths[i++ % paths.size()]);
+    cv::Mat mat;
+    vpImageConvert::convert(image, mat);
+    benchmark::DoNotOptimize(mat.data);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_WriteOpenCv(benchmark::State& state) {
+  const std::vector<std::string> paths = eurocImages();
+  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
+  const cv::Mat image = cv::imread(paths.front(), cv::IMREAD_GRAYSCALE);
+  adugs::test::TempDir dir("adugs_bench_image_io");
+  const std::string out = (dir / "frame.png").string();
+  for (auto _ : state) benchmark::DoNotOptimize(cv::imwrite(out, image));
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_WriteVispImageIo(benchmark::State& state) {
+  const std::vector<std::string> paths = eurocImages();
+  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
+  vpImage<unsigned char> image;
+  vpImageIo::read(image, paths.front());
+  adugs::test::TempDir dir("adugs_bench_image_io");
+  const std::string out = (dir / "frame.png").string();
+  for (auto _ : state) vpImageIo::write(image, out);
+  state.SetItemsProcessed(state.iterations());
+}
+
+}  // namespace
+
+BENCHMARK(BM_ReadOpenCv)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadVispImageIo)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WriteOpenCv)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WriteVispImageIo)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

@@ -1,0 +1,41 @@
+#include "tracking/dynamic_masker_options.h"
+
+#include <string>
+
+namespace adugs::tracking {
+
+void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* options) {
+  DynamicMaskerOptions& o = *options;
+  d.optional("detect_every", o.detect_every, 1, 1000);
+  std::string tracker = "sort", noise = "adaptive";
+  d.optional("tracker", tracker);
+  if (tracker != "sort" && tracker != "none") d.fail("tracker", "must be sort or none");
+  o.track = tracker == "sort";
+  d.optional("noise", noise);
+  if (noise != "adaptive" && noise != "fixed") d.fail("noise", "must be adaptive or fixed");
+  d.optional("max_age", o.sort.max_age, 0, 1000);
+  d.optional("min_hits", o.sort.min_hits, 0, 1000);
+  d.optional("iou_min", o.sort.iou_min, 0.0, 1.0);
+  d.optional("lambda", o.sort.filter.lambda, 1e-6, 1e6);
+  d.optional("beta_pos", o.sort.filter.beta_pos, 1e-6, 1e6);
+  d.optional("beta_size", o.sort.filter.beta_size, 1e-6, 1e6);
+  d.optional("window", o.sort.filter.window, 1, 1000);
+  if (noise == "fixed") o.sort.filter.lambda = 1e6;  // erf saturates at once: R = beta, a fixed R
+  d.optional("erode_radius_px", o.refinement.erode_radius_px, 0, 100);
+  d.optional("dilate_radius_px", o.refinement.dilate_radius_px, 0, 200);
+  d.optional("min_box_side_px", o.min_box_side_px, 0.0, 1000.0);
+  d.optional("segment_every", o.segment_every, 0, 1000);
+  d.optional("segment_async", o.segment_async);
+  d.optional("camera_motion_compensation", o.camera_motion_compensation);
+  d.optional("appearance_weight", o.sort.appearance_weight, 0.0, 10.0);
+  d.optional("high_score", o.sort.high_score, 0.0, 1.0);
+  d.optional("low_iou_min", o.sort.low_iou_min, 0.0, 1.0);
+  d.optional("drop_unconfirmed", o.sort.drop_unconfirmed_on_miss);
+  d.optional("last_box_association", o.sort.last_box_association);
+  d.optional("direction_weight", o.sort.direction_weight, 0.0, 10.0);
+  d.optional("direction_frames", o.sort.direction_frames, 1, 100);
+  d.optional("recovery", o.sort.observation_centric_recovery);
+  if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
+}
+
+}  // namespace adugs::tracking

@@ -1,0 +1,47 @@
+#pragma once
+// The options of the dynamic-object stage (DynamicMasker), defaults in code, and their one reader:
+// the `dynamic:` map of a run config (data/config/*.yaml). `adugs run`/`live` read it from the run
+// config, `adugs track --config` from the same file; command-line flags only override fields.
+//   detect_every, tracker: sort | none, noise: adaptive | fixed, SORT's max_age / min_hits /
+//   iou_min, the adaptive noise's lambda / beta_pos / beta_size / window, erode_radius_px /
+//   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 10 for MobileSAM),
+//   segment_async, camera_motion_compensation, appearance_weight, and the association stages
+//   high_score / low_iou_min / drop_unconfirmed / last_box_association / direction_weight /
+//   direction_frames / recovery
+#include <cstdint>
+
+#include "data/formats/yaml_options.h"
+#include "tracking/segment/mask_refinement.h"
+#include "tracking/sort/sort_tracker.h"
+
+namespace adugs::tracking {
+
+struct DynamicMaskerOptions {
+  SortOptions sort;
+  MaskRefinementOptions refinement;
+  double min_box_side_px = 4;  // smaller tracked boxes are ignored
+  // The detector runs on every detect_every-th frame (1 = all); in between, SORT's predictions
+  // carry the boxes (SortTracker::predict), which saves the detector's time at a cost in
+  // accuracy measured in doc/results.md.
+  int detect_every = 1;
+  // false: each frame's detections are segmented as they are, without SORT (the paper's "no
+  // SORT" ablation); needs detect_every = 1.
+  bool track = true;
+  // Frames between box-segmenter runs, the masks carried by the tracked boxes in between
+  // (tracking/segment/sparse_segmenter.h); 0 = automatic: every frame, every 10th for a slow segmenter
+  // (MobileSAM). 1 = every frame.
+  int segment_every = 0;
+  bool segment_async = true;  // sparse runs on a worker thread (false: inline, reproducible)
+  // The caller feeds the gyro's image motion to SORT (compensateCameraMotion) when true.
+  bool camera_motion_compensation = false;
+};
+
+// Reads the keys above from `dynamic:` (unknown keys are left for the caller's finish()); errors
+// name file, line and key.
+void readDynamicMaskerOptions(data::YamlOptionsReader& r, DynamicMaskerOptions* options);
+
+// The one rule for which frames the detector runs on: every detect_every-th frame from the first
+// (frame_index counts from 0). The frames between get SORT's predictions.
+inline bool isDetectionFrame(int64_t frame_index, int detect_every) { return frame_index % detect_every == 0; }
+
+}  // namespace adugs::tracking

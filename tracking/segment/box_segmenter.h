@@ -1,0 +1,34 @@
+#pragma once
+// Box-prompted segmentation (doc/architecture.md, "The method"): each tracked object box prompts a
+// segmenter for the object's pixels; the union over the boxes is the raw dynamic mask (refined
+// afterwards by tracking/segment/mask_refinement). Backends: the weight-free GrabCut segmenter
+// (default) and MobileSAM when the user supplies its TorchScript files.
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "tracking/box.h"
+
+namespace adugs::tracking {
+
+class BoxSegmenter {
+ public:
+  virtual ~BoxSegmenter() = default;
+  // image: CV_8UC1 or CV_8UC3. Returns CV_8UC1 of the image size, 255 on object pixels of any
+  // box, 0 elsewhere. Boxes may extend past the image; they are clipped.
+  virtual cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) = 0;
+  virtual const char* name() const = 0;
+  // Too slow to run on every frame on a CPU (the dynamic masker then runs it sparsely).
+  virtual bool slow() const { return false; }
+};
+
+// The integer pixel rectangle of a box clipped to a width x height image (may be empty).
+cv::Rect clippedRect(const Box& box, int width, int height);
+
+// The filled boxes themselves: the most conservative mask (and what the others fall back to).
+class FilledBoxSegmenter : public BoxSegmenter {
+ public:
+  cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) override;
+  const char* name() const override { return "box"; }
+};
+
+}  // namespace adugs::tracking

@@ -1,0 +1,73 @@
+#include "tracking/segment/grabcut_segmenter.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace adugs::tracking {
+
+GrabCutSegmenter::GrabCutSegmenter(const GrabCutOptions& options) : options_(options) {
+  if (options_.iterations < 1 || options_.max_side < 16 || options_.margin < 0 ||
+      options_.min_foreground_fraction < 0 || options_.min_foreground_fraction >= 1)
+    throw std::invalid_argument("GrabCutSegmenter: invalid options");
+}
+
+cv::Mat GrabCutSegmenter::segment(const cv::Mat& image, const std::vector<Box>& boxes) {
+  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
+    throw std::invalid_argument("GrabCutSegmenter: image must be 8-bit grey or BGR");
+  cv::Mat bgr = image;
+  if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+  fallbacks_ = 0;
+  cv::Mat mask = cv::Mat::zeros(image.size(), CV_8UC1);
+  for (const Box& b : boxes) {
+    const cv::Rect r = clippedRect(b, image.cols, image.rows);
+    if (r.empty()) continue;
+    cv::Mat object = segmentOne(bgr, b, r);
+    cv::Mat target = mask(r);
+    cv::bitwise_or(target, object, target);
+  }
+  return mask;
+}
+
+cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect) {
+  cv::Mat filled(box_rect.size(), CV_8UC1, cv::Scalar(255));
+  if (std::min(box_rect.width, box_rect.height) < options_.min_box_side) {
+    ++fallbacks_;
+    return filled;
+  }
+  // Region = box + margin ring (clipped); GrabCut needs some certain background around the box.
+  Box grown = box;
+  grown.w *= 1 + 2 * options_.margin;
+  grown.h *= 1 + 2 * options_.margin;
+  const cv::Rect region = clippedRect(grown, bgr.cols, bgr.rows);
+  const double scale =
+      std::min(1.0, static_cast<double>(options_.max_side) / std::max(region.width, region.height));
+  cv::Mat small;
+  cv::resize(bgr(region), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::Rect box_small(cv::Point(static_cast<int>((box_rect.x - region.x) * scale),
+                               static_cast<int>((box_rect.y - region.y) * scale)),
+                     cv::Size(std::max(1, static_cast<int>(box_rect.width * scale)),
+                              std::max(1, static_cast<int>(box_rect.height * scale))));
+  box_small &= cv::Rect(0, 0, small.cols, small.rows);
+  // Where the box touches the image border there is no background ring; GrabCut's rect mode
+  // then sees no background at all on that side, which is fine for its GMM as long as some
+  // remains elsewhere. A box covering the whole region cannot be modelled: fill it.
+  if (box_small.area() >= small.cols * small.rows) {
+    ++fallbacks_;
+    return filled;
+  }
+  cv::Mat labels, bgd_model, fgd_model;
+  cv::grabCut(small, labels, box_small, bgd_model, fgd_model, options_.iterations,
+              cv::GC_INIT_WITH_RECT);
+  cv::Mat fg_small = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
+  cv::Mat fg_region;
+  cv::resize(fg_small, fg_region, region.size(), 0, 0, cv::INTER_NEAREST);
+  cv::Mat object = fg_region(cv::Rect(box_rect.tl() - region.tl(), box_rect.size())).clone();
+  if (cv::countNonZero(object) < options_.min_foreground_fraction * box_rect.area()) {
+    ++fallbacks_;
+    return filled;
+  }
+  return object;
+}
+
+}  // namespace adugs::tracking
