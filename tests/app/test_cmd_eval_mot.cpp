@@ -332,6 +332,30 @@ TEST(CmdTrack, ImageFolderWithMasksAndOverlay) {
                      &log),
             2);
   EXPECT_NE(log.find("no images"), std::string::npos) << log;
+
+  // --config: the masker takes the run config's dynamic: map (the reader adugs run uses): a larger
+  // dilation masks more of each frame; a bad value there is an error naming the file and key.
+  auto maskedShare = [&](const std::string& config, const std::string& out) {
+    EXPECT_EQ(runAdugs("track " + (dir / "frames").string() + " --detector-model " + weights.string() +
+                           " --segmenter box --masks" + config + " --out " + (dir / out).string(),
+                       &log),
+              0)
+        << log;
+    double share = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir / out / "masks"))
+      share += cv::countNonZero(cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE)) / (768.0 * 576.0);
+    return share;
+  };
+  test::writeText(dir / "wide.yaml", "dynamic:\n  dilate_radius_px: 40\n");
+  EXPECT_GT(maskedShare(" --config " + (dir / "wide.yaml").string(), "wide"), 1.2 * maskedShare("", "plain"));
+  test::writeText(dir / "bad.yaml", "dynamic:\n  direction_frames: 0\n");
+  EXPECT_EQ(runAdugs("track " + (dir / "frames").string() + " --detector-model " + weights.string() +
+                         " --segmenter box --config " + (dir / "bad.yaml").string() + " --out " + (dir / "r").string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("bad.yaml"), std::string::npos) << log;
+  EXPECT_NE(log.find("direction_frames"), std::string::npos) << log;
 }
 
 // `adugs track VIDEO --detector-model` on the first 40 frames of OpenCV's pedestrian video with the
