@@ -51,7 +51,16 @@ TEST(KalibrCalibration, HandWrittenFileWithTimeShift) {
   const KalibrCamera k = parseKalibrCamchain(text, "chain.yaml");
   EXPECT_EQ(k.time_shift_ns, -2500000);
   EXPECT_TRUE(k.camera.T_B_C.translation().isApprox(Eigen::Vector3d(0, 1, 0)));
+  EXPECT_EQ(k.camera.width, 640);
   EXPECT_EQ(k.camera.height, 480);
+  EXPECT_EQ(k.camera.fx, 400);
+  EXPECT_EQ(k.camera.fy, 401);
+  EXPECT_EQ(k.camera.cx, 320);
+  EXPECT_EQ(k.camera.cy, 240);
+  EXPECT_EQ(k.camera.distortion_model, DistortionModel::kRadialTangential);
+  EXPECT_EQ(k.camera.distortion, (std::vector<double>{0.1, -0.01, 0.001, 0.0001}));
+  // The rotation too: R_B_C = R_cam_imu^T, so the camera's x axis is the body's -y.
+  EXPECT_TRUE(k.camera.T_B_C.rotation().col(0).isApprox(Eigen::Vector3d(0, -1, 0)));
   EXPECT_EQ(k.rostopic, "/cam0/image_raw");
 }
 
