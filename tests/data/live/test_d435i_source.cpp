@@ -205,10 +205,8 @@ TEST(D435iSource, UnpluggedCameraEndsTheStreamWithAMessage) {
   Stream before = collect(source, 1.0);
   EXPECT_FALSE(before.ended);
   fake.unplugCamera();
-  const auto t = std::chrono::steady_clock::now();
-  const Stream after = collect(source, 5.0);
-  EXPECT_TRUE(after.ended);
-  EXPECT_LT(std::chrono::steady_clock::now() - t, std::chrono::seconds(1));
+  const Stream after = collect(source, 30.0);  // a hang guard, not a timing bound
+  EXPECT_TRUE(after.ended) << "the stream did not end within 30 s of the unplug";
   fake.stop();
   EXPECT_NE(source.stopReason().find("video"), std::string::npos) << source.stopReason();
   EXPECT_NE(source.stopReason().find("unplugged"), std::string::npos) << source.stopReason();
@@ -240,11 +238,10 @@ TEST(D435iSource, StopWakesABlockedNext) {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     source.stop();
   });
-  const auto t = std::chrono::steady_clock::now();
   data::Measurement m;
   EXPECT_FALSE(source.next(m));
   stopper.join();
-  EXPECT_LT(std::chrono::steady_clock::now() - t, std::chrono::seconds(2));
+  // stop() is what ended it: otherwise only the stall timeout could ("no frame for ...").
   EXPECT_EQ(source.stopReason(), "stopped on request");
 }
 
@@ -267,12 +264,20 @@ TEST(D435iSource, ASlowConsumerLosesFramesNeverImuSamples) {
   data::D435iSource source(o, fake.v4l2());
   fake.start();
   Stream s = collect(source, 0.5);
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // the consumer is busy
+  // The consumer is busy while the camera delivers 24 frames into its 4 buffers (waited for by
+  // the device's own count, whatever the machine's load; 30 s is only a hang guard).
+  const int delivered = fake.framesDelivered();
+  const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (fake.framesDelivered() < delivered + 24 && std::chrono::steady_clock::now() < guard)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_GE(fake.framesDelivered(), delivered + 24) << "the fake camera stopped delivering";
   const Stream rest = collect(source, 1.0);
   fake.stop();
   s.all.insert(s.all.end(), rest.all.begin(), rest.all.end());
   checkStream(s, fake, 0.1);  // includes: no IMU sample missing
-  EXPECT_GE(source.stats().frames_lost_by_driver, 15u);  // 24 frames came in 0.8 s, 4 buffers
+  // 24 frames for 4 buffers: at least 20 lost, less one the consumer may have taken as it stopped
+  // and a few in flight: 15.
+  EXPECT_GE(source.stats().frames_lost_by_driver, 15u);
   EXPECT_GE(source.counts().frames_lost, source.stats().frames_lost_by_driver);
   EXPECT_TRUE(source.isLive());
 }
