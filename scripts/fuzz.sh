@@ -39,7 +39,15 @@ for target in "${targets[@]}"; do
   [ -f "$repo/tests/fuzz/$kind.dict" ] && args+=(-dict="$repo/tests/fuzz/$kind.dict")
   echo "== $target: ${seconds}s"
   rc=0
-  "$build/tests/fuzz/$target" "${args[@]}" "$work" "$repo/tests/fuzz/corpus/$kind" >"$log" 2>&1 || rc=$?
+  # Seeds: the checked-in corpus, and real files of the project read only (libFuzzer writes to the
+  # first folder alone): the run configs and the datasets' Kalibr files for YAML, the evaluation
+  # reference trajectories for CSV.
+  seeds=("$repo/tests/fuzz/corpus/$kind")
+  case "$kind" in
+    yaml) seeds+=("$repo/data/config" "$repo"/data/config/presets/*/) ;;
+    csv) seeds+=("$repo/tests/data/reference") ;;
+  esac
+  "$build/tests/fuzz/$target" "${args[@]}" "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" || true
   grep -E "^#[0-9]+ +DONE" "$log" || true
   if [ "$rc" -ne 0 ]; then
