@@ -59,6 +59,25 @@ TEST(AdaptiveBoxFilter, JumpyDetectionsRaiseRAndAreTrustedLess) {
   EXPECT_GT(P.eigenvalues().real().minCoeff(), 0.0);
 }
 
+// The fixed-R ablation (`adugs track --fixed-noise`, run config `dynamic: noise: fixed`): lambda
+// 1e6 saturates the erf, so R stays at beta (plus the floor) where the adaptive R follows the
+X
+TEST(AdaptiveBoxFilter, FixedNoiseKeepsRAtBeta) {
+  AdaptiveNoiseOptions adaptive, fixed;
+  fixed.lambda = 1e6;
+  AdaptiveBoxFilter a(Box{0, 0, 50, 50}, adaptive), f(Box{0, 0, 50, 50}, fixed);
+  for (int k = 1; k <= 20; ++k) {
+    a.predict();
+    f.predict();
+    const Box detection{(k % 2 ? 0.5 : -0.5), 0, 50, 50};
+    a.update(detection);
+    f.update(detection);
+  }
+  EXPECT_NEAR(f.measurementVariance()(0), fixed.beta_pos + fixed.r_floor, 1e-9);
+  EXPECT_LT(a.measurementVariance()(0), 0.3 * adaptive.beta_pos);
+  EXPECT_GT(a.measurementVariance()(0), 0.5);
+}
+
 TEST(AdaptiveBoxFilter, SizeNeverCollapses) {
   AdaptiveBoxFilter f(Box{10, 10, 4, 4});
   for (int k = 1; k <= 5; ++k) {
