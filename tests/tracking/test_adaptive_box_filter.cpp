@@ -61,7 +61,7 @@ TEST(AdaptiveBoxFilter, JumpyDetectionsRaiseRAndAreTrustedLess) {
 
 // The fixed-R ablation (`adugs track --fixed-noise`, run config `dynamic: noise: fixed`): lambda
 // 1e6 saturates the erf, so R stays at beta (plus the floor) where the adaptive R follows the
-X
+// innovations of the detections' +-0.5 px noise (RMSE about 0.9 px) down to about 3.7 px^2.
 TEST(AdaptiveBoxFilter, FixedNoiseKeepsRAtBeta) {
   AdaptiveNoiseOptions adaptive, fixed;
   fixed.lambda = 1e6;
