@@ -16,12 +16,14 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # Leaks inside third-party libraries (OpenCV's and ViSP's static singletons) are not ours.
 export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
 cd build-asan
-# The longest accuracy and end-to-end runs (13-80 s each in Release, 4-5x that under ASan) run in
+# The longest accuracy and end-to-end runs (13-80 s each in Release, 4-10x that under ASan) run in
 # the Release stage only; under the sanitizers their code paths run through shorter siblings kept
 # here: the estimator (SlidingWindowEstimator.StaticStreet..., InitialisesOnItsOwnWindow...), the
 # pipeline with signals (CmdLive.SigintMidRunFlushesEveryOutput, CmdRunVioSim.*), the detector
 # chain (CmdRunVioSim.DetectorMasksRunTheWholeDynamicObjectStage), bag playback
-# (RosbagPlayback.*), the camera-IMU calibration (CameraImuCalibrator.Synthetic...).
+# (RosbagPlayback.*), the camera-IMU calibration (CameraImuCalibrator.Synthetic..., and
+# CameraImuVerdict.FirstThreeSecondsOfEurocFail: the CLI test of the same run is left out), the
+# intrinsics' verdicts (IntrinsicsVerdict.*, CalibCli.IntrinsicsFromEurocCornerCsvs).
 # SANITIZE_ALL=1 runs every test.
 release_only=(
   CameraImuCalibrator.EurocImuAprilMatchesPublishedExtrinsics
@@ -48,6 +50,10 @@ release_only=(
   SimWalkers.ARealDetectorRecognisesThemAndNotTheOldBoxes
   CmdTrack.DetectorOnARealVideo
   RunConfigChoice.AdugsRunPrintsAndRecordsTheChosenConfig
+  CalibCli.UndeterminedFocalFailsWithExitThreeAndWritesNothing
+  CameraImuCli.FirstThreeSecondsOfEurocFailWithExitThree
+  CameraImuCli.SyntheticRunWritesKalibrFilesReportAndPlots
+  IntrinsicsCalibrator.NearStillViewsAreNeverOk
 )
 exclude="^($(IFS='|'; echo "${release_only[*]}"))\$"
 if [ "${SANITIZE_ALL:-0}" = 1 ]; then exclude='^$'; fi
