@@ -127,9 +127,10 @@ TEST_F(CmdLive, SigintMidRunFlushesEveryOutput) {
   TempDir out;
   AdugsProcess live("live --replay " + seq() + " --config " + cfg() + " --no-window --out " + out.path().string(),
                     out / "log.txt");
-  // Mid-run: once it estimates poses.
+  // Mid-run: once it estimates poses (the first three: under the sanitizers on a loaded machine
+  // the live policy drops most frames and the 6 s source gave only 20 poses in all).
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (lines(out / "trajectory.tum") < 20 && std::chrono::steady_clock::now() < give_up && live.wait(std::chrono::seconds(0)) < 0)
+  while (lines(out / "trajectory.tum") < 3 && std::chrono::steady_clock::now() < give_up && live.wait(std::chrono::seconds(0)) < 0)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   live.signal(SIGINT);
   const int code = live.wait(std::chrono::seconds(60));
@@ -141,7 +142,7 @@ TEST_F(CmdLive, SigintMidRunFlushesEveryOutput) {
   EXPECT_EQ(summaryText(s, "end_detail"), "\"SIGINT\"");
   EXPECT_LT(summaryNumber(s, "frames_acquired"), frameRows());  // it did stop early
   const auto traj = data::readTrajectory((out / "trajectory.tum").string());
-  EXPECT_GE(traj.size(), 20u);
+  EXPECT_GE(traj.size(), 3u);
   EXPECT_EQ(static_cast<double>(traj.size()), summaryNumber(s, "poses"));
   EXPECT_GT(summaryNumber(s, "ate_se3_rmse_m"), 0);  // evaluated, with what was estimated
   EXPECT_NE(log.find("stopped (SIGINT)"), std::string::npos) << log;
