@@ -20,6 +20,8 @@ targets=("$@")
 mkdir -p "$build"
 # ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$repo}"
+# RelWithDebInfo has -g, for which ccache hashes the working directory unless told not to.
+export CCACHE_NOHASHDIR=1
 CC=clang CXX=clang++ cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DADUGS_FUZZ=ON -DADUGS_BUILD_TESTS=OFF -DADUGS_BUILD_BENCHMARKS=OFF >"$build/configure.log" 2>&1 ||
   { cat "$build/configure.log"; exit 1; }
