@@ -546,7 +546,7 @@ void runCameraImu(const CameraImuArgs& a) {
 }  // namespace
 
 void registerCalibCommand(CLI::App& root) {
-  CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, camera-IMU, IMU noise");
+  CLI::App* calib = root.add_subcommand("calib", "Calibration: AprilGrid target, camera intrinsics, camera-IMU, IMU noise; other tools' calibration files (show, convert)");
   calib->require_subcommand(1);
   calib->footer(
       "Every calibration result carries a verdict: ok; weak (written, with a WARNING and what to "
@@ -622,6 +622,8 @@ void registerCalibCommand(CLI::App& root) {
   cimu->add_option("--max-gyro-bias", ci->max_gyro_bias, "Verdict: gyro bias above which the result fails [rad/s] (default 0.5)");
   ci->cli = cimu;
   cimu->callback([ci] { runCameraImu(*ci); });
+
+  registerCalibFileCommands(calib);
 }
 
 }  // namespace adugs::app

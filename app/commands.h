@@ -7,6 +7,8 @@ namespace adugs::app {
 
 void registerBagCommand(CLI::App& root);
 void registerCalibCommand(CLI::App& root);
+// adugs calib show | convert (app/cmd_calib_files.cpp), registered by registerCalibCommand.
+void registerCalibFileCommands(CLI::App* calib);
 void registerD435iCommand(CLI::App& root);
 void registerEvalCommand(CLI::App& root);
 void registerEvalMotCommand(CLI::App& root);

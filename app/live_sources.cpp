@@ -1,9 +1,10 @@
 #include "app/live_sources.h"
 
+#include <iostream>
 #include <memory>
 
 #include "app/run_config.h"
-#include "data/formats/kalibr_calibration.h"
+#include "data/formats/calibration_files.h"
 #include "data/input_error.h"
 #include "data/sources/d435i_source.h"
 #include "data/sources/playback_controls.h"
@@ -59,16 +60,22 @@ void addLiveSourceOptions(CLI::App* cmd, LiveSourceArgs& a) {
   cmd->add_option("--v4l2-format", a.v4l2_request.fourcc, "--v4l2: pixel format to ask for (MJPG, YUYV, GREY, ...)");
 }
 
-data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz, const std::string& kalibr_camchain,
-                                         std::string* from) {
-  if (!kalibr_camchain.empty()) {
-    data::CameraCalibration c = data::readKalibrCamchain(kalibr_camchain).camera;
+data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz,
+                                         const std::vector<std::string>& calibration, std::string* from) {
+  if (!calibration.empty()) {
+    const data::RigCalibration rig = data::readCalibrationFiles(calibration);
+    data::reportIgnoredKeys(rig, std::cerr);
+    if (rig.has_imu)
+      throw data::InputError(rig.imu.source, 0, "--calibration", "--video and --v4l2 have no IMU (vision only): give the camera's file alone");
+    if (rig.cameras.empty())
+      throw data::InputError(calibration.front(), 0, "--calibration", "no camera in the calibration files");
+    data::CameraCalibration c = rig.cameras.front().camera;
     if (c.width != width || c.height != height)
-      throw data::InputError(kalibr_camchain, 0, "resolution",
+      throw data::InputError(rig.cameras.front().source, 0, "resolution",
                              "is " + std::to_string(c.width) + "x" + std::to_string(c.height) + ", the camera gives " +
                                  std::to_string(width) + "x" + std::to_string(height));
     if (c.rate_hz <= 0) c.rate_hz = rate_hz;
-    *from = "Kalibr " + kalibr_camchain;
+    *from = rig.formats.front() + " " + rig.cameras.front().source;
     return c;
   }
   data::CameraCalibration c;
@@ -79,7 +86,7 @@ data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz, 
   c.cy = 0.5 * (height - 1);
   c.distortion = {0, 0, 0, 0};
   c.rate_hz = rate_hz;
-  *from = "none: a guessed pinhole (fx = fy = image width, centred, no distortion); give --kalibr-camchain";
+  *from = "none: a guessed pinhole (fx = fy = image width, centred, no distortion); give --calibration";
   return c;
 }
 
@@ -100,16 +107,14 @@ data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& 
   }
   data::OpenedSequence s;
   if (a.d435i) {
-    s = data::openD435i(loadRunConfig(config_path).d435i, p.kalibr_camchain, p.kalibr_imu, device_io);
+    s = data::openD435i(loadRunConfig(config_path).d435i, p.calibration, device_io);
     return withStartAndDuration(std::move(s), a.sequence);
   }
-  if (!p.kalibr_imu.empty())
-    throw data::InputError(p.kalibr_imu, 0, "--kalibr-imu", "--video and --v4l2 have no IMU (vision only)");
   s.has_imu = false;
-  if (!p.kalibr_camchain.empty()) s.calibration_files.push_back(p.kalibr_camchain);
+  s.calibration_files = p.calibration;
   if (!a.video.empty()) {
     auto video = std::make_unique<data::VideoFileSource>(a.video, a.video_speed);
-    s.camera = visionOnlyCamera(video->width(), video->height(), video->frameRateHz(), p.kalibr_camchain,
+    s.camera = visionOnlyCamera(video->width(), video->height(), video->frameRateHz(), p.calibration,
                                 &s.calibration_from);
     s.source = std::move(video);
   } else {
@@ -117,7 +122,7 @@ data::OpenedSequence openLiveSource(const LiveSourceArgs& a, const std::string& 
     if (!a.v4l2_size.empty() && std::sscanf(a.v4l2_size.c_str(), "%dx%d", &request.width, &request.height) != 2)
       throw data::InputError("--v4l2-size", 0, "v4l2_size", "must be WxH, e.g. 640x480");
     auto camera = std::make_unique<data::V4l2CameraSource>(a.v4l2, request);
-    s.camera = visionOnlyCamera(camera->width(), camera->height(), camera->frameRateHz(), p.kalibr_camchain,
+    s.camera = visionOnlyCamera(camera->width(), camera->height(), camera->frameRateHz(), p.calibration,
                                 &s.calibration_from);
     s.source = std::move(camera);
   }

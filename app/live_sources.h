@@ -41,8 +41,9 @@ void addLiveSourceOptions(CLI::App* cmd, LiveSourceArgs& args);
 data::OpenedSequence openLiveSource(const LiveSourceArgs& args, const std::string& config_path,
                                     const std::string& out_dir, data::V4l2Io& device_io = data::systemV4l2Io());
 
-// The camera of a vision-only source: from a Kalibr camchain (its resolution must match) or guessed.
-data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz, const std::string& kalibr_camchain,
-                                         std::string* from);
+// The camera of a vision-only source: cam0 of the calibration files (its resolution must match;
+// an IMU in them is an error) or guessed.
+data::CameraCalibration visionOnlyCamera(int width, int height, double rate_hz,
+                                         const std::vector<std::string>& calibration, std::string* from);
 
 }  // namespace adugs::app

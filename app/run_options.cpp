@@ -11,11 +11,21 @@ void addSequenceOptions(CLI::App* cmd, SequenceArgs& args) {
                   "viode, openloris (ROS1 bags), bag (any ROS1 bag: give topics and Kalibr files)")
       ->check(CLI::IsMember(data::datasetPresetNames()))
       ->capture_default_str();
-  cmd->add_option("--kalibr-camchain", p.kalibr_camchain,
-                  "Kalibr camchain-imucam.yaml (cam0 intrinsics, T_cam_imu, timeshift_cam_imu); "
-                  "replaces the preset's or the folder's camera calibration")
+  cmd->add_option("--calibration", p.calibration,
+                  "calibration files of any of Kalibr (camchain-imucam.yaml, imu.yaml), OpenVINS "
+                  "(kalibr_imucam_chain.yaml, kalibr_imu_chain.yaml), VINS-Mono/Fusion (config.yaml, naming "
+                  "its camera files), Basalt (calib.json), EuRoC (sensor.yaml); recognised by content; "
+                  "they replace the preset's or the folder's calibration for what they give")
+      ->check(CLI::ExistingFile)
+      ->expected(1, -1);
+  // The older spellings, kept as aliases: each adds its file to --calibration.
+  cmd->add_option_function<std::string>(
+         "--kalibr-camchain", [&p](const std::string& f) { p.calibration.push_back(f); },
+         "Kalibr camchain-imucam.yaml (alias: adds the file to --calibration)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--kalibr-imu", p.kalibr_imu, "Kalibr imu.yaml (noise densities, random walks)")
+  cmd->add_option_function<std::string>(
+         "--kalibr-imu", [&p](const std::string& f) { p.calibration.push_back(f); },
+         "Kalibr imu.yaml (alias: adds the file to --calibration)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--image-topic", p.topics.image, "bag: image topic (Image or CompressedImage)");
   cmd->add_option("--imu-topic", p.topics.imu, "bag: sensor_msgs/Imu topic with both sensors");

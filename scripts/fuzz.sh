@@ -46,7 +46,11 @@ for target in "${targets[@]}"; do
   # reference trajectories for CSV.
   seeds=("$repo/tests/fuzz/corpus/$kind")
   case "$kind" in
-    yaml) seeds+=("$repo/data/config" "$repo"/data/config/presets/*/) ;;
+    yaml) seeds+=("$repo/data/config" "$repo"/data/config/presets/*/)
+          # Other tools' calibration files when exported (scripts/export_third_party_calibrations.sh).
+          if [ -n "${ADUGS_THIRD_PARTY_CALIB:-}" ]; then
+            while IFS= read -r d; do seeds+=("$d"); done < <(find "$ADUGS_THIRD_PARTY_CALIB" -type d)
+          fi ;;
     csv) seeds+=("$repo/tests/data/reference") ;;
   esac
   "$build/tests/fuzz/$target" "${args[@]}" "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?

@@ -3,8 +3,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
+#include "data/formats/calibration_files.h"
 #include "data/formats/euroc_sensor_yaml.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
@@ -108,25 +110,41 @@ CameraImuSensors readYacCalibConfig(const std::string& path, const std::string& 
   return s;
 }
 
+// Both through the one reader of calibration files (data/formats/calibration_files.h), so any
+// tool's file works here as it does for `adugs run`.
 PinholeCamera readKalibrCamchain(const std::string& path, const std::string& camera_name) {
-  const YAML::Node root = data::loadYamlFile(path);
-  return readCamera(need(root, camera_name, path, ""), path, camera_name + ".", "intrinsics",
-                    "distortion_coeffs", "distortion_model");
+  const data::RigCalibration rig = data::readCalibrationFiles({path});
+  size_t index = 0;
+  if (camera_name.rfind("cam", 0) != 0 || std::sscanf(camera_name.c_str() + 3, "%zu", &index) != 1)
+    throw InputError(path, 0, camera_name, "expected a camera name cam0, cam1, ...");
+  if (index >= rig.cameras.size()) throw InputError(path, 0, camera_name, "missing: the file has " + std::to_string(rig.cameras.size()) + " camera(s)");
+  const data::CameraCalibration& c = rig.cameras[index].camera;
+  if (c.projection != data::ProjectionModel::kPinhole)
+    throw InputError(path, 0, camera_name + ".camera_model",
+                     "the calibration takes pinhole cameras (radtan, equidistant or no distortion), found " +
+                         data::toString(c.projection));
+  PinholeCamera p;
+  p.width = c.width;
+  p.height = c.height;
+  p.model = c.distortion_model == data::DistortionModel::kNone ? data::DistortionModel::kRadialTangential
+                                                               : c.distortion_model;
+  p.params = {c.fx, c.fy, c.cx, c.cy, c.distortion[0], c.distortion[1], c.distortion[2], c.distortion[3]};
+  return p;
 }
 
 ImuNoiseFigures readKalibrImuYaml(const std::string& path) {
-  const YAML::Node root = data::loadYamlFile(path);
-  // Kalibr imu.yaml is flat; some files nest it under imu0.
-  const YAML::Node imu = root["imu0"] ? root["imu0"] : root;
-  auto field = [&](const char* key) { return number(need(imu, key, path, ""), path, key); };
+  const data::RigCalibration rig = data::readCalibrationFiles({path});
+  if (!rig.has_imu) throw InputError(path, 0, "imu0", "no IMU noise figures in this file");
+  if (rig.imu.noise_per_sample)
+    throw InputError(path, 0, "acc_n", "VINS' per-sample noise figures need the IMU rate: give a Kalibr imu.yaml");
+  const data::ImuNoise& n = rig.imu.noise;
+  if (!(n.rate_hz > 0)) throw InputError(path, 0, "update_rate", "missing: the calibration needs the IMU rate");
   ImuNoiseFigures f;
-  f.accel_noise_density = field("accelerometer_noise_density");
-  f.accel_random_walk = field("accelerometer_random_walk");
-  f.gyro_noise_density = field("gyroscope_noise_density");
-  f.gyro_random_walk = field("gyroscope_random_walk");
-  f.update_rate_hz = field("update_rate");
-  if (!(f.accel_noise_density > 0 && f.gyro_noise_density > 0 && f.update_rate_hz > 0))
-    throw InputError(path, 0, "", "noise densities and update_rate must be positive");
+  f.accel_noise_density = n.accel_noise_density;
+  f.accel_random_walk = n.accel_random_walk;
+  f.gyro_noise_density = n.gyro_noise_density;
+  f.gyro_random_walk = n.gyro_random_walk;
+  f.update_rate_hz = n.rate_hz;
   return f;
 }
 

@@ -9,15 +9,16 @@
 
 namespace adugs::data {
 
-Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m) {
+Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m,
+                                 double tolerance) {
   Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
   double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   double det = R.determinant();
   double last = (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
-  if (!(ortho <= kRigidTolerance && std::fabs(det - 1) <= kRigidTolerance && last <= kRigidTolerance)) {
+  if (!(ortho <= tolerance && std::fabs(det - 1) <= tolerance && last <= tolerance)) {
     r.fail(key, "not a rigid transform (|R^T R - I| = " + detail::numberText(ortho) + ", det R = " +
                     detail::numberText(det) + ", last row off by " + detail::numberText(last) +
-                    "; tolerance " + detail::numberText(kRigidTolerance) + ")");
+                    "; tolerance " + detail::numberText(tolerance) + ")");
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();

@@ -18,13 +18,16 @@
 
 namespace adugs::data {
 
-// Max |R^T R - I| entry, |det R - 1| and last-row deviation accepted for T_BS.
+// Max |R^T R - I| entry, |det R - 1| and last-row deviation accepted for T_BS; other tools'
+// files (KAIST's in OpenVINS, 2e-5) are written with fewer digits and get the looser one.
 constexpr double kRigidTolerance = 1e-5;
+constexpr double kForeignRigidTolerance = 1e-4;
 
 class YamlOptionsReader;
 // The 4x4 matrix as a rigid transform (tolerance above, rotation re-orthonormalised); otherwise an
 // InputError naming r's file and `key`.
-Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m);
+Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m,
+                                 double tolerance = kRigidTolerance);
 
 // camera_model (pinhole only) and intrinsics [fu, fv, cu, cv] (EuRoC and Kalibr spell them alike).
 void readPinholeIntrinsics(YamlOptionsReader& r, CameraCalibration* cam);

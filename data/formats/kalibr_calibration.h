@@ -1,44 +1,43 @@
 #pragma once
-// Reading Kalibr calibration files, as dataset users and `adugs calib camera-imu` have them:
-//   camchain-imucam.yaml   cam0: camera_model pinhole, intrinsics [fu fv pu pv],
-//                          distortion_model radtan | equidistant, distortion_coeffs (4),
-//                          resolution [w h], T_cam_imu (4x4, maps IMU-frame points into the
-//                          camera frame), timeshift_cam_imu (s; t_imu = t_cam + shift), rostopic
-//   imu.yaml               imu0: accelerometer/gyroscope noise densities and random walks,
-//                          update_rate, rostopic, T_i_b, model, time_offset
+// Kalibr's calibration files, and OpenVINS' variants of them (its config/*/kalibr_*.yaml):
+//   camchain(-imucam).yaml  cam0, cam1, ...: camera_model pinhole | omni | ds | eucm,
+//                           intrinsics ([xi] [alpha beta] fu fv pu pv, Kalibr's order),
+//                           distortion_model radtan | equidistant | none, distortion_coeffs,
+//                           resolution, T_cam_imu (IMU -> camera; OpenVINS may write T_imu_cam,
+//                           camera -> IMU, instead), T_cn_cnm1, timeshift_cam_imu, rostopic
+//   imu.yaml                the noise figures, flat (Kalibr's documented input form) or under
+//                           imu0: (its results), with T_i_b, update_rate, rostopic, and the
+//                           scale-misalignment blocks of its results (gyroscopes: M, A,
+//                           C_gyro_i; accelerometers: M) or OpenVINS' Tw, Tg, R_IMUtoGYRO, Ta,
+//                           R_IMUtoACC with model: kalibr | rpng | calibrated
 // Converted at this boundary to the project's frames: T_B_C = T_cam_imu^-1 (body = IMU).
-// Unknown keys, other camera models (omni, ds, eucm), other distortion models and non-rigid
-// transforms are InputErrors naming the file, line and key.
-#include <cstdint>
+// The *Map readers read every key they know from one map and leave the rest: the project's own
+// files (d435i.yaml's cam0:/imu0:) then call finish(), so a typo is an error; another tool's file
+// lists the rest as ignored.
 #include <string>
+#include <vector>
 
-#include "data/formats/euroc_sensor_yaml.h"
+#include "data/calibration.h"
 
 namespace adugs::data {
 
-struct KalibrCamera {
-  CameraCalibration camera;  // T_B_C from T_cam_imu; identity when the file has no T_cam_imu
-  bool has_T_cam_imu = false;
-  int64_t time_shift_ns = 0;  // timeshift_cam_imu
-  std::string rostopic;
-};
-
-struct KalibrImu {
-  ImuNoise noise;
-  std::string rostopic;
-};
-
-// `camera` is the camchain's top-level key ("cam0").
-KalibrCamera readKalibrCamchain(const std::string& path, const std::string& camera = "cam0");
-KalibrCamera parseKalibrCamchain(const std::string& text, const std::string& source,
-                                 const std::string& camera = "cam0");
-KalibrImu readKalibrImu(const std::string& path);
-KalibrImu parseKalibrImu(const std::string& text, const std::string& source);
-
 class YamlOptionsReader;
-// One camera's map (the keys under "cam0:") and the IMU's map (the keys under "imu0:"), for files
-// that embed them, such as data/config/d435i.yaml. Both call finish() on the reader.
-KalibrCamera readKalibrCameraMap(YamlOptionsReader& camera);
-KalibrImu readKalibrImuMap(YamlOptionsReader& imu);
+
+// One camera's map (the keys under "cam0:"). A missing or wrong value, a camera or distortion
+// model the project cannot use, or a transform that is not rigid is an InputError naming the key.
+RigCamera readKalibrCameraMap(YamlOptionsReader& camera);
+// The IMU's map (the keys under "imu0:", or a flat file's top level). The unknown keys of its
+// gyroscopes:/accelerometers: blocks are errors, or appended to nested_unused when given.
+RigImu readKalibrImuMap(YamlOptionsReader& imu, std::vector<std::string>* nested_unused = nullptr);
+
+// Whole files, as Kalibr and OpenVINS write them: every camera of a camchain (cam0, cam1, ...,
+// in order), the IMU of an imu file, added to rig (keys that do not change the estimate go to
+// rig.ignored_keys).
+void readKalibrCamchain(YamlOptionsReader root, RigCalibration& rig);
+void readKalibrImu(YamlOptionsReader root, RigCalibration& rig);
+
+// cam0 and the IMU of a single file or text (the dataset presets, tests).
+RigCamera parseKalibrCamchain(const std::string& text, const std::string& source);
+RigImu parseKalibrImu(const std::string& text, const std::string& source);
 
 }  // namespace adugs::data

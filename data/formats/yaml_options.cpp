@@ -217,6 +217,28 @@ void YamlOptionsReader::finish() const {
   }
 }
 
+std::vector<std::string> YamlOptionsReader::unusedKeys() const {
+  std::vector<std::string> out;
+  for (const Entry& e : entries_)
+    if (!e.used) out.push_back(prefix_ + e.key);
+  return out;
+}
+
+YAML::Node YamlOptionsReader::node(const std::string& key) {
+  const Entry* e = use(key);
+  return e ? e->value : YAML::Node(YAML::NodeType::Undefined);
+}
+
+YAML::Node YamlOptionsReader::peek(const std::string& key) const {
+  const Entry* e = find(key);
+  return e ? e->value : YAML::Node(YAML::NodeType::Undefined);
+}
+
+long YamlOptionsReader::keyLine(const std::string& key) const {
+  const Entry* e = find(key);
+  return e ? e->line : line_;
+}
+
 void YamlOptionsReader::fail(const std::string& key, const std::string& what) const {
   const Entry* e = find(key);
   failAt(e ? e->line : line_, key, what);

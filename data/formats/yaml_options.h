@@ -76,6 +76,15 @@ class YamlOptionsReader {
 
   // Throws InputError for the first key that no optional/required/child call asked for.
   void finish() const;
+  // The keys nobody asked for, with their prefix ("cam0.T_cn_cnm1"), in file order: what a reader
+  // of another tool's file reports as ignored where the project's own files call finish().
+  std::vector<std::string> unusedKeys() const;
+  // The raw node of key (undefined when absent), for layouts the typed readers do not cover
+  // (lists of maps); node() marks the key as asked for, peek() does not.
+  YAML::Node node(const std::string& key);
+  YAML::Node peek(const std::string& key) const;
+  // The line of key in the file (the map's own line when the key is absent).
+  long keyLine(const std::string& key) const;
 
   // Throws InputError naming the key (and its line) unless ok.
   void check(bool ok, const std::string& key, const std::string& what) const {

@@ -4,12 +4,13 @@
 
 namespace adugs::data {
 
-data::KalibrCamera D435iOptions::placeholderCamera() {
+data::RigCamera D435iOptions::placeholderCamera() {
   // One D435i's factory intrinsics of the 640x480 infrared mode (385.75 px, VINS-Fusion's
   // config/realsense_d435i/left.yaml) scaled to the 848x480 mode (the 1280x800 imager scaled by
   // 0.6625 instead of 0.6): 426 px, principal point at the centre, no distortion. A placeholder:
   // every unit differs by a few pixels; calibrate (adugs calib intrinsics).
-  data::KalibrCamera c;
+  data::RigCamera c;
+  c.source = "the run config's d435i.cam0";
   c.camera.width = 848;
   c.camera.height = 480;
   c.camera.fx = c.camera.fy = 426.0;
@@ -22,7 +23,7 @@ data::KalibrCamera D435iOptions::placeholderCamera() {
   // translation t = (-5.52, 5.1, 11.74) mm, p_imu = p_depth + t; so T_B_C = [I | t].
   c.camera.T_B_C = Eigen::Isometry3d::Identity();
   c.camera.T_B_C.translation() = Eigen::Vector3d(-0.00552, 0.0051, 0.01174);
-  c.has_T_cam_imu = true;
+  c.has_T_imu_cam = true;
   c.camera.rate_hz = 30;
   return c;
 }
@@ -75,10 +76,14 @@ void readD435iOptions(data::YamlOptionsReader& r, D435iOptions* o) {
   if (r.has("cam0")) {
     data::YamlOptionsReader c = r.child("cam0");
     o->camera = data::readKalibrCameraMap(c);
+    c.finish();
   }
   if (r.has("imu0")) {
     data::YamlOptionsReader i = r.child("imu0");
-    o->imu_noise = data::readKalibrImuMap(i).noise;
+    const data::RigImu imu = data::readKalibrImuMap(i);
+    i.finish();
+    r.check(imu.intrinsics.isIdentity(), "imu0", "IMU intrinsics (Tw, Ta, Tg, ...) belong in a calibration file given with --calibration");
+    o->imu_noise = imu.noise;
   }
 }
 

@@ -52,10 +52,10 @@ struct D435iOptions {
 
   // Calibration used when no Kalibr files are given (Kalibr spelling: cam0 / imu0 maps).
   // The defaults are a placeholder for the infrared camera (see data/config/d435i.yaml).
-  data::KalibrCamera camera = placeholderCamera();
+  data::RigCamera camera = placeholderCamera();
   data::ImuNoise imu_noise = defaultImuNoise();
 
-  static data::KalibrCamera placeholderCamera();
+  static data::RigCamera placeholderCamera();
   static data::ImuNoise defaultImuNoise();
 };
 

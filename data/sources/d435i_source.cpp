@@ -19,7 +19,9 @@
 #include "data/device/host_clock.h"
 #include "data/device/realsense_imu.h"
 #include "data/device/usb_device_tree.h"
+#include "data/formats/calibration_files.h"
 #include "data/input_error.h"
+#include "data/sources/imu_correction.h"
 #include "data/sources/visp_realsense2_source.h"
 
 namespace adugs::data {
@@ -510,30 +512,41 @@ D435iStats D435iSource::stats() const {
   return s;
 }
 
-data::OpenedSequence openD435i(const D435iOptions& options, const std::string& kalibr_camchain,
-                               const std::string& kalibr_imu, V4l2Io& io) {
+data::OpenedSequence openD435i(const D435iOptions& options, const std::vector<std::string>& calibration, V4l2Io& io) {
   data::OpenedSequence out;
-  data::KalibrCamera camera = options.camera;
+  data::RigCamera camera = options.camera;
+  data::RigImu imu;
+  imu.noise = options.imu_noise;
   std::string camera_from = "the run config's d435i.cam0 (placeholder intrinsics: calibrate your unit)";
-  if (!kalibr_camchain.empty()) {
-    camera = data::readKalibrCamchain(kalibr_camchain);
-    camera_from = kalibr_camchain;
-    out.calibration_files.push_back(kalibr_camchain);
+  std::string imu_from = "the run config's d435i.imu0";
+  if (!calibration.empty()) {
+    data::RigCalibration rig = data::readCalibrationFiles(calibration);
+    data::reportIgnoredKeys(rig, std::cerr);
+    if (!rig.cameras.empty()) {
+      camera = rig.cameras.front();
+      camera_from = camera.source;
+    }
+    if (rig.has_imu) {
+      imu = rig.imu;
+      imu_from = imu.source;
+      data::resolvePerSampleNoise(imu, options.gyro_hz);  // VINS' figures, at the gyro's rate
+    }
+    out.calibration_files = rig.files;
   }
   if (camera.camera.width != options.width || camera.camera.height != options.height)
-    throw data::InputError(kalibr_camchain.empty() ? std::string("d435i.cam0") : kalibr_camchain, 0, "resolution",
+    throw data::InputError(calibration.empty() ? std::string("d435i.cam0") : camera.source, 0, "resolution",
                            std::to_string(camera.camera.width) + "x" + std::to_string(camera.camera.height) +
                                " does not match the stream's " + std::to_string(options.width) + "x" +
                                std::to_string(options.height) + " (d435i.width/height)");
   out.camera = camera.camera;
   out.camera.rate_hz = options.fps;
-  out.imu_noise = kalibr_imu.empty() ? options.imu_noise : data::readKalibrImu(kalibr_imu).noise;
-  if (!kalibr_imu.empty()) out.calibration_files.push_back(kalibr_imu);
-  out.calibration_from = "camera: " + camera_from + "; IMU: " +
-                         (kalibr_imu.empty() ? std::string("the run config's d435i.imu0") : kalibr_imu);
-  if (options.backend == "librealsense") out.source = openVispRealSense2(options, camera.time_shift_ns);
-  else out.source = std::make_unique<D435iSource>(options, io, camera.time_shift_ns);
-  if (kalibr_camchain.empty())  // once the camera is there
+  out.imu_noise = imu.noise;
+  out.calibration_from = "camera: " + camera_from + "; IMU: " + imu_from;
+  const int64_t shift_ns = data::secToNs(camera.time_offset_s);
+  if (options.backend == "librealsense") out.source = openVispRealSense2(options, shift_ns);
+  else out.source = std::make_unique<D435iSource>(options, io, shift_ns);
+  out.source = data::correctImu(std::move(out.source), imu.intrinsics);
+  if (calibration.empty() || camera_from.rfind("the run config", 0) == 0)  // once the camera is there
     std::cerr << "warning: d435i: camera intrinsics from " << camera_from << "\n";
   return out;
 }

@@ -132,7 +132,7 @@ class D435iSource : public data::SequenceSource {
 // The source with the calibration it needs: the Kalibr files when given (camchain's cam0 and
 // imu.yaml; their resolution must be the stream's), else the config's d435i.cam0 / imu0 (a
 // placeholder camera: calibrate). InputError for every mismatch.
-data::OpenedSequence openD435i(const D435iOptions& options, const std::string& kalibr_camchain = "",
-                               const std::string& kalibr_imu = "", V4l2Io& io = systemV4l2Io());
+data::OpenedSequence openD435i(const D435iOptions& options, const std::vector<std::string>& calibration = {},
+                               V4l2Io& io = systemV4l2Io());
 
 }  // namespace adugs::data

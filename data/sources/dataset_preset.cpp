@@ -1,13 +1,16 @@
 #include "data/sources/dataset_preset.h"
 
 #include <filesystem>
+#include <iostream>
 
 #include "data/builtin_config.h"
+#include "data/formats/calibration_files.h"
 #include "data/formats/kalibr_calibration.h"
 #include "data/formats/trajectory_io.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
 #include "data/sources/euroc_reader.h"
+#include "data/sources/imu_correction.h"
 #include "data/sources/playback_controls.h"
 #include "data/sources/rosbag_ground_truth.h"
 
@@ -51,41 +54,60 @@ const Preset& findPreset(const std::string& name) {
 std::string pick(const std::string& user, const std::string& preset) { return user.empty() ? preset : user; }
 
 struct Calibration {
-  std::optional<KalibrCamera> camera;
-  std::optional<KalibrImu> imu;
+  std::optional<RigCamera> camera;
+  std::optional<RigImu> imu;
   std::string from;
   std::vector<std::string> user_files;
 };
 
-// User Kalibr files first, then the preset's built-in ones.
+// The user's calibration files first (any tool's, data/formats/calibration_files.h), then the
+// preset's built-in Kalibr files for what they do not give.
 Calibration loadCalibration(const PlaybackOptions& o, const Preset& preset) {
   Calibration c;
   std::string camera_from, imu_from;
-  if (!o.kalibr_camchain.empty()) {
-    c.camera = readKalibrCamchain(o.kalibr_camchain);
-    camera_from = o.kalibr_camchain;
-    c.user_files.push_back(o.kalibr_camchain);
-  } else if (*preset.calibration) {
+  if (!o.calibration.empty()) {
+    const RigCalibration rig = readCalibrationFiles(o.calibration);
+    reportIgnoredKeys(rig, std::cerr);
+    if (!rig.cameras.empty()) {
+      c.camera = rig.cameras.front();
+      camera_from = c.camera->source;
+    }
+    if (rig.has_imu) {
+      c.imu = rig.imu;
+      imu_from = rig.imu.source;
+    }
+    c.user_files = rig.files;
+  }
+  if (!c.camera && *preset.calibration) {
     const std::string name = std::string("preset ") + preset.calibration + " camchain-imucam.yaml";
     c.camera = parseKalibrCamchain(presetCalibrationText(preset.calibration, "camchain-imucam.yaml"), name);
     camera_from = name;
   }
-  if (!o.kalibr_imu.empty()) {
-    c.imu = readKalibrImu(o.kalibr_imu);
-    imu_from = o.kalibr_imu;
-    c.user_files.push_back(o.kalibr_imu);
-  } else if (*preset.calibration) {
+  if (!c.imu && *preset.calibration) {
     const std::string name = std::string("preset ") + preset.calibration + " imu.yaml";
     c.imu = parseKalibrImu(presetCalibrationText(preset.calibration, "imu.yaml"), name);
     imu_from = name;
   }
-  if (c.camera && !c.camera->has_T_cam_imu)
+  if (c.camera && !c.camera->has_T_imu_cam)
     throw InputError(camera_from, 0, "cam0.T_cam_imu",
                      "the camera-IMU extrinsic is missing (a camchain-imucam.yaml from Kalibr's "
                      "camera-IMU calibration has it)");
   c.from = "camera: " + (camera_from.empty() ? "sequence" : camera_from) +
            ", imu: " + (imu_from.empty() ? "sequence" : imu_from);
   return c;
+}
+
+// VINS' per-sample noise becomes densities at the sequence's IMU rate.
+ImuNoise noiseAt(RigImu imu, double sequence_rate_hz) {
+  if (imu.noise_per_sample) {
+    const double rate = imu.noise.rate_hz > 0 ? imu.noise.rate_hz : sequence_rate_hz;
+    if (!(rate > 0))
+      throw InputError(imu.source, 0, "acc_n",
+                       "VINS' noise figures are per IMU sample and this sequence does not say its IMU rate: "
+                       "give a Kalibr imu file with update_rate as well");
+    resolvePerSampleNoise(imu, rate);
+  }
+  return imu.noise;
 }
 
 OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
@@ -96,12 +118,12 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
   EurocCalibrationOverride override;
   if (calib.camera) {
     override.camera = calib.camera->camera;
-    override.image_time_shift_ns = calib.camera->time_shift_ns;
+    override.image_time_shift_ns = secToNs(calib.camera->time_offset_s);
   }
-  if (calib.imu) override.imu_noise = calib.imu->noise;
+  if (calib.imu && !calib.imu->noise_per_sample) override.imu_noise = calib.imu->noise;
   auto reader = std::make_unique<EurocReader>(o.path, ro, override);
   s.camera = reader->camera();
-  s.imu_noise = reader->imuNoise();
+  s.imu_noise = calib.imu ? noiseAt(*calib.imu, reader->imuNoise().rate_hz) : reader->imuNoise();
   s.gt_path = o.gt_path.empty() ? reader->groundTruthPath() : o.gt_path;
   const fs::path masks = fs::path(reader->mavDir()) / "mask0" / "data";
   std::error_code ec;
@@ -123,12 +145,12 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
 OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, const Calibration& calib,
                                const std::string& out_dir) {
   if (!calib.camera || !calib.imu)
-    throw InputError(o.path, 0, "--kalibr-camchain/--kalibr-imu",
-                     "a bag carries no calibration: give --kalibr-camchain and --kalibr-imu (Kalibr "
-                     "camchain-imucam.yaml and imu.yaml), or a --dataset preset that has one");
+    throw InputError(o.path, 0, "--calibration",
+                     "a bag carries no calibration: give --calibration with the camera and IMU files (Kalibr, "
+                     "OpenVINS, VINS, Basalt), or a --dataset preset that has one");
   OpenedSequence s;
   s.camera = calib.camera->camera;
-  s.imu_noise = calib.imu->noise;
+  s.imu_noise = noiseAt(*calib.imu, 0);
   RosbagSourceOptions ro;
   ro.topics.image = pick(o.topics.image, preset.topics.image);
   // One IMU topic or two: the user's choice wins over the preset's layout.
@@ -149,7 +171,7 @@ OpenedSequence openBagSequence(const PlaybackOptions& o, const Preset& preset, c
   ro.load_images = o.load_images;
   ro.expected_width = s.camera.width;
   ro.expected_height = s.camera.height;
-  ro.image_time_shift_ns = calib.camera->time_shift_ns;
+  ro.image_time_shift_ns = secToNs(calib.camera->time_offset_s);
   auto source = std::make_unique<RosbagSource>(o.path, ro);
   if (!(s.camera.rate_hz > 0)) s.camera.rate_hz = source->imageRateHz();  // Kalibr files rarely give it
 
@@ -205,6 +227,7 @@ OpenedSequence openSequence(const PlaybackOptions& o, const std::string& out_dir
   const Preset& preset = findPreset(o.dataset);
   const Calibration calib = loadCalibration(o, preset);
   OpenedSequence s = preset.bag ? openBagSequence(o, preset, calib, out_dir) : openFolder(o, calib);
+  if (calib.imu) s.source = correctImu(std::move(s.source), calib.imu->intrinsics);
   s.calibration_from = calib.from;
   s.calibration_files.insert(s.calibration_files.end(), calib.user_files.begin(), calib.user_files.end());
   if (o.start_ns < 0 || o.duration_ns < 0)

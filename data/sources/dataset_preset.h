@@ -30,7 +30,9 @@ struct PlaybackOptions {
   RosbagTopics topics;  // empty fields: the preset's
   std::string gt_topic, gt_parent_frame, gt_child_frame;  // ground truth in the bag
   std::string gt_path;                                    // ground-truth file (TUM / EuRoC CSV)
-  std::string kalibr_camchain, kalibr_imu;
+  // The user's calibration files, any tool's (data/formats/calibration_files.h); they replace the
+  // preset's or the folder's calibration for what they give.
+  std::vector<std::string> calibration;
   int64_t reorder_window_ns = 100'000'000;
   bool skip_bad_frames = false;
   bool load_images = true;

@@ -283,7 +283,8 @@ TEST(CmdLiveErrors, BadSourcesAreErrorsNamingTheProblem) {
               2)
         << log;
     EXPECT_NE(log.find("one source"), std::string::npos) << log;
-    writeText(out / "imu.yaml", "imu0:\n  accelerometer_noise_density: 0.01\n");
+    writeText(out / "imu.yaml", "imu0:\n  accelerometer_noise_density: 0.01\n  accelerometer_random_walk: 0.0002\n"
+                                "  gyroscope_noise_density: 0.005\n  gyroscope_random_walk: 4.0e-06\n");
     EXPECT_EQ(runAdugs("live --video " + video + " --kalibr-imu " + (out / "imu.yaml").string() + " --out " +
                            out.path().string(),
                        &log),

@@ -220,7 +220,7 @@ TEST_F(CmdPlayback, BadBagInputIsAnErrorNamingTheProblem) {
   std::string log;
   // A generic bag needs a calibration.
   EXPECT_EQ(runAdugs("run --dataset bag " + bag("viode") + " --out " + out.path().string(), &log), 2) << log;
-  EXPECT_NE(log.find("--kalibr-camchain"), std::string::npos) << log;
+  EXPECT_NE(log.find("--calibration"), std::string::npos) << log;
   // Unknown topic: the message lists the bag's topics.
   EXPECT_EQ(runAdugs("run --dataset viode " + bag("viode") + kalibr() + " --imu-topic /imu9 --out " +
                          out.path().string(),
@@ -273,7 +273,7 @@ TEST(CmdPlaybackTumVi, FisheyeSequenceRunsWithThePresetCalibration) {
   const auto micro = sharedDataDir() / "euroc_v101_micro";
   ADUGS_REQUIRE_SHARED(micro);
   TempDir dir;
-  const data::KalibrCamera tumvi =
+  const data::RigCamera tumvi =
       data::parseKalibrCamchain(data::presetCalibrationText("tum-vi", "camchain-imucam.yaml"), "tum-vi preset");
   data::CameraCalibration camera = tumvi.camera;
   camera.rate_hz = 20;

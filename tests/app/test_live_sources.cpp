@@ -169,7 +169,7 @@ TEST(VideoFileSource, PlaysAVideoAtItsFrameRateWithColourAndGrey) {
 
 TEST(LiveSources, VisionOnlyCameraIsGuessedOrReadFromKalibrAndMustMatchTheImageSize) {
   std::string from;
-  const data::CameraCalibration guess = visionOnlyCamera(640, 480, 30, "", &from);
+  const data::CameraCalibration guess = visionOnlyCamera(640, 480, 30, {}, &from);
   EXPECT_EQ(guess.fx, 640);
   EXPECT_EQ(guess.cx, 319.5);
   EXPECT_NE(from.find("guessed"), std::string::npos);
@@ -178,14 +178,24 @@ TEST(LiveSources, VisionOnlyCameraIsGuessedOrReadFromKalibrAndMustMatchTheImageS
                   "cam0:\n  camera_model: pinhole\n  intrinsics: [458.6, 457.3, 367.2, 248.4]\n"
                   "  distortion_model: radtan\n  distortion_coeffs: [-0.28, 0.07, 0.0002, 0.00002]\n"
                   "  resolution: [752, 480]\n");
-  const data::CameraCalibration kalibr = visionOnlyCamera(752, 480, 20, (dir / "camchain.yaml").string(), &from);
+  const data::CameraCalibration kalibr = visionOnlyCamera(752, 480, 20, {(dir / "camchain.yaml").string()}, &from);
   EXPECT_DOUBLE_EQ(kalibr.fx, 458.6);
   EXPECT_EQ(kalibr.rate_hz, 20);
   try {
-    visionOnlyCamera(640, 480, 30, (dir / "camchain.yaml").string(), &from);
+    visionOnlyCamera(640, 480, 30, {(dir / "camchain.yaml").string()}, &from);
     FAIL() << "a camchain of another resolution was accepted";
   } catch (const data::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("752x480"), std::string::npos) << e.what();
+  }
+  // The calibration of a camera with an IMU is refused: these sources have none.
+  test::writeText(dir / "imu.yaml",
+                  "accelerometer_noise_density: 0.01\naccelerometer_random_walk: 0.0002\n"
+                  "gyroscope_noise_density: 0.005\ngyroscope_random_walk: 4.0e-06\n");
+  try {
+    visionOnlyCamera(752, 480, 20, {(dir / "camchain.yaml").string(), (dir / "imu.yaml").string()}, &from);
+    FAIL() << "an IMU file was accepted for a vision-only source";
+  } catch (const data::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no IMU"), std::string::npos) << e.what();
   }
 }
 

@@ -99,8 +99,7 @@ TEST(RunConfigChoice, ARealRecordersBagGetsItsRateFromTheImageTopicAndItsClass) 
   o.topics.image = "/camera/fisheye1/image_raw";
   o.topics.accel = "/camera/accel/sample";
   o.topics.gyro = "/camera/gyro/sample";
-  o.kalibr_camchain = (dir / "camchain.yaml").string();
-  o.kalibr_imu = (dir / "imu.yaml").string();
+  o.calibration = {(dir / "camchain.yaml").string(), (dir / "imu.yaml").string()};
   const data::OpenedSequence sequence = data::openSequence(o, dir.path().string());
   EXPECT_NEAR(sequence.camera.rate_hz, 30.0, 1.5);
   std::string described;

@@ -174,8 +174,7 @@ TEST_F(RosbagPlayback, PresetWithKalibrFilesOpensTheBagAndWritesItsGroundTruth) 
   PlaybackOptions o;
   o.dataset = "viode";
   o.path = bag("viode.bag");
-  o.kalibr_camchain = (*dir_ / "kalibr/camchain-imucam.yaml").string();
-  o.kalibr_imu = (*dir_ / "kalibr/imu.yaml").string();
+  o.calibration = {(*dir_ / "kalibr/camchain-imucam.yaml").string(), (*dir_ / "kalibr/imu.yaml").string()};
   OpenedSequence s = openSequence(o, out.path().string());
   EXPECT_EQ(s.camera.width, 376);
   EXPECT_EQ(s.gt_path, (out / "groundtruth.tum").string());
@@ -186,8 +185,7 @@ TEST_F(RosbagPlayback, PresetWithKalibrFilesOpensTheBagAndWritesItsGroundTruth) 
   EXPECT_EQ(readAll(*s.source).size(), 41u + 801u);
 
   // The bag's images are 376x240; the preset's own VIODE calibration says 752x480.
-  o.kalibr_camchain.clear();
-  o.kalibr_imu.clear();
+  o.calibration.clear();
   OpenedSequence wrong = openSequence(o, out.path().string());
   const std::string err = errorOf([&] { readAll(*wrong.source); });
   EXPECT_NE(err.find("376x240"), std::string::npos) << err;
@@ -200,8 +198,7 @@ TEST_F(RosbagPlayback, OpenLorisPresetTakesTheGroundTruthFileBesideTheBag) {
   PlaybackOptions o;
   o.dataset = "openloris";
   o.path = (seq / "office1-1.bag").string();
-  o.kalibr_camchain = (*dir_ / "kalibr/camchain-imucam.yaml").string();
-  o.kalibr_imu = (*dir_ / "kalibr/imu.yaml").string();
+  o.calibration = {(*dir_ / "kalibr/camchain-imucam.yaml").string(), (*dir_ / "kalibr/imu.yaml").string()};
   EXPECT_EQ(openSequence(o, out.path().string()).gt_path, "");  // no file, no /gt topic: none
   const Trajectory gt = readTrajectory((asl() / "mav0/state_groundtruth_estimate0/data.csv").string());
   writeTumTrajectory((seq / "groundtruth.txt").string(), gt);

@@ -1,8 +1,11 @@
-// libFuzzer target: arbitrary bytes as YAML, parsed as a camera sensor.yaml, an IMU sensor.yaml
-// and an example options struct through YamlOptionsReader. Accepted sensor files must survive a
-// write -> read round trip unchanged.
+// libFuzzer target: arbitrary bytes as YAML, parsed as a camera sensor.yaml, an IMU sensor.yaml,
+// any tool's calibration file (data/formats/calibration_files.h: Kalibr, OpenVINS, VINS, Basalt
+// JSON) and an example options struct through YamlOptionsReader. Accepted sensor files must
+// survive a write -> read round trip unchanged; an accepted calibration that the Kalibr writer
+// can hold must read back equal.
 // InputError is the expected outcome for bad input; any other exception, a crash or a sanitizer
 // report is a bug.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -10,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "data/formats/calibration_files.h"
+#include "data/formats/calibration_writers.h"
 #include "data/formats/euroc_sensor_yaml.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
@@ -44,6 +49,40 @@ void imuRoundTrip(const std::string& text) {
       r.accel_random_walk != n.accel_random_walk || !sameTransform(r.T_B_I, n.T_B_I)) {
     bug("IMU sensor.yaml does not round-trip");
   }
+}
+
+bool near(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::max(std::abs(a), std::abs(b))); }
+
+void calibrationRoundTrip(const std::string& text) {
+  RigCalibration rig;
+  readCalibrationText(text, "fuzz.yaml", rig);
+  if (rig.files.size() != rig.formats.size()) bug("calibration: files and formats differ in number");
+  for (const RigCamera& c : rig.cameras)
+    if (!(c.camera.fx > 0) || !(c.camera.fy > 0) || c.camera.width <= 0 || c.camera.distortion.size() != 4)
+      bug("calibration: a camera without positive focal lengths, a size and 4 coefficients was accepted");
+  if (rig.has_imu && rig.imu.noise_per_sample) resolvePerSampleNoise(rig.imu, 200);
+  CalibrationFiles files;
+  try {
+    files = formatCalibration(rig, "kalibr");
+  } catch (const InputError&) {
+    return;  // what Kalibr's files cannot hold
+  }
+  RigCalibration back;
+  for (const auto& [name, body] : files) readCalibrationText(body, name, back);
+  if (back.cameras.size() != rig.cameras.size()) bug("calibration: camera count does not round-trip");
+  for (size_t i = 0; i < rig.cameras.size(); ++i) {
+    const CameraCalibration &a = rig.cameras[i].camera, &b = back.cameras[i].camera;
+    if (a.fx != b.fx || a.fy != b.fy || a.cx != b.cx || a.cy != b.cy || a.width != b.width ||
+        a.projection != b.projection || a.projection_params != b.projection_params ||
+        a.distortion_model != b.distortion_model || a.distortion != b.distortion)
+      bug("calibration: camera " + std::to_string(i) + " does not round-trip");
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        if (!near(a.T_B_C(r, c), b.T_B_C(r, c))) bug("calibration: T_imu_cam does not round-trip");
+  }
+  if (back.imu.noise.accel_noise_density != rig.imu.noise.accel_noise_density ||
+      back.imu.noise.gyro_random_walk != rig.imu.noise.gyro_random_walk)
+    bug("calibration: IMU noise does not round-trip");
 }
 
 void exampleOptions(const std::string& text) {
@@ -92,5 +131,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   expectOnlyInputError("camera sensor.yaml", [&] { cameraRoundTrip(text); });
   expectOnlyInputError("IMU sensor.yaml", [&] { imuRoundTrip(text); });
   expectOnlyInputError("YamlOptionsReader", [&] { exampleOptions(text); });
+  expectOnlyInputError("calibration files", [&] { calibrationRoundTrip(text); });
   return 0;
 }

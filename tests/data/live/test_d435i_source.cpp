@@ -411,7 +411,7 @@ TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
   test::TempDir dir("adugs_live");
   test::FakeD435i fake(dir.path());
   {
-    data::OpenedSequence seq = data::openD435i(fake.options(), "", "", fake.v4l2());
+    data::OpenedSequence seq = data::openD435i(fake.options(), {}, fake.v4l2());
     EXPECT_EQ(seq.camera.width, 848);
     EXPECT_EQ(seq.camera.fx, 426.0);
     EXPECT_NEAR(seq.camera.T_B_C.translation().z(), 0.01174, 1e-12);
@@ -422,7 +422,7 @@ TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
                   "cam0:\n  camera_model: pinhole\n  intrinsics: [430, 431, 420, 241]\n  distortion_model: radtan\n"
                   "  distortion_coeffs: [0.01, 0, 0, 0]\n  resolution: [640, 480]\n  timeshift_cam_imu: 0.004\n");
   try {
-    data::openD435i(fake.options(), (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
+    data::openD435i(fake.options(), {(dir.path() / "camchain.yaml").string()}, fake.v4l2());
     FAIL() << "accepted a 640x480 calibration for an 848x480 stream";
   } catch (const data::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("camchain.yaml"), std::string::npos) << e.what();
@@ -430,14 +430,14 @@ TEST(D435iSource, OpenedWithCalibrationFromKalibrFilesOrTheConfig) {
   }
   data::D435iOptions o = fake.options();
   o.width = 640;
-  data::OpenedSequence seq = data::openD435i(o, (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
+  data::OpenedSequence seq = data::openD435i(o, {(dir.path() / "camchain.yaml").string()}, fake.v4l2());
   EXPECT_EQ(seq.camera.fx, 430.0);
   EXPECT_NE(seq.calibration_from.find("camchain.yaml"), std::string::npos);
   seq.source.reset();
   if (!data::vispRealSense2Available()) {  // Debian's ViSP: the librealsense backend says why it is not there
     o.backend = "librealsense";
     try {
-      data::openD435i(o, (dir.path() / "camchain.yaml").string(), "", fake.v4l2());
+      data::openD435i(o, {(dir.path() / "camchain.yaml").string()}, fake.v4l2());
       FAIL() << "opened the librealsense backend in a build without it";
     } catch (const data::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("VISP_HAVE_REALSENSE2"), std::string::npos) << e.what();
@@ -485,7 +485,7 @@ TEST(D435iOptions, TheConfigFileHoldsTheDefaultsInCode) {
   EXPECT_EQ(a.cy, b.cy);
   EXPECT_EQ(a.distortion, b.distortion);
   EXPECT_TRUE(a.T_B_C.isApprox(b.T_B_C, 1e-12)) << a.T_B_C.matrix() << "\n" << b.T_B_C.matrix();
-  EXPECT_EQ(file.camera.time_shift_ns, code.camera.time_shift_ns);
+  EXPECT_EQ(file.camera.time_offset_s, code.camera.time_offset_s);
   EXPECT_EQ(file.imu_noise.accel_noise_density, code.imu_noise.accel_noise_density);
   EXPECT_EQ(file.imu_noise.accel_random_walk, code.imu_noise.accel_random_walk);
   EXPECT_EQ(file.imu_noise.gyro_noise_density, code.imu_noise.gyro_noise_density);
