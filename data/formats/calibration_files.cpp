@@ -101,19 +101,7 @@ RigCalibration readOne(const YAML::Node& node, const std::string& source, const 
   if (!node.IsMap()) throw InputError(source, 1, "", "expected a YAML or JSON map of calibration keys");
   YamlOptionsReader r(node, source);
   std::string format;
-  if (isBasaltFile(r)) {
-    format = "Basalt calibration JSON";
-    readBasaltFile(r, rig);
-  } else if (isVinsFile(r)) {
-    format = r.has("cam0_calib") || r.has("acc_n") ? "VINS config" : "VINS camera";
-    readVinsFile(r, path, rig);
-  } else if (r.has("cam0")) {
-    format = "Kalibr camchain";
-    readKalibrCamchain(r, rig);
-  } else if (r.has("imu0") || r.has("accelerometer_noise_density")) {
-    format = r.has("imu0") ? "Kalibr imu" : "Kalibr imu (flat)";
-    readKalibrImu(r, rig);
-  } else if (r.has("sensor_type")) {
+  if (r.has("sensor_type")) {  // EuRoC/ASL before Kalibr: its IMU file has Kalibr's key names
     std::string type;
     YamlOptionsReader(node, source).optional("sensor_type", type);
     std::ostringstream text;
@@ -133,6 +121,18 @@ RigCalibration readOne(const YAML::Node& node, const std::string& source, const 
     } else {
       r.fail("sensor_type", "expected camera or imu, found '" + type + "'");
     }
+  } else if (isBasaltFile(r)) {
+    format = "Basalt calibration JSON";
+    readBasaltFile(r, rig);
+  } else if (isVinsFile(r)) {
+    format = r.has("cam0_calib") || r.has("acc_n") ? "VINS config" : "VINS camera";
+    readVinsFile(r, path, rig);
+  } else if (r.has("cam0")) {
+    format = "Kalibr camchain";
+    readKalibrCamchain(r, rig);
+  } else if (r.has("imu0") || r.has("accelerometer_noise_density")) {
+    format = r.has("imu0") ? "Kalibr imu" : "Kalibr imu (flat)";
+    readKalibrImu(r, rig);
   } else {
     throw InputError(source, 1, "",
                      "not a calibration file adugs reads (Kalibr camchain or imu, OpenVINS kalibr_*.yaml, "

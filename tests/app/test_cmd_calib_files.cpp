@@ -3,14 +3,19 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "data/formats/calibration_files.h"
+#include "data/formats/csv_reader.h"
+#include "data/formats/trajectory_io.h"
 #include "data/formats/yaml_options.h"
 #include "tests/test_support.h"
 
 namespace adugs {
 namespace {
 namespace fs = std::filesystem;
+using test::readFile;
 using test::runAdugs;
 using test::TempDir;
 using test::writeText;
@@ -112,6 +117,110 @@ TEST(CmdCalibFiles, ConvertToEveryToolReadsBackTheSame) {
     EXPECT_LT((a.T_B_C.matrix() - b.T_B_C.matrix()).cwiseAbs().maxCoeff(), 1e-9);
     EXPECT_NEAR(back.imu.noise.gyro_random_walk, 1.9393e-05, 1e-15);
   }
+}
+
+// `adugs run --calibration` on a simulated sequence: its own calibration given back through other
+// tools' files gives the trajectory of the run without them; IMU intrinsics are applied to the
+// samples (a sequence whose accelerometer x reads 3 % high runs like the original once Ta says so).
+class CmdRunCalibration : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("adugs_run_calibration");
+    std::string log;
+    ASSERT_EQ(runAdugs("sim --scene room --level none --seed 3 --duration 8 --out " + (dir_->path() / "seq").string(), &log), 0)
+        << log;
+    ASSERT_EQ(runAdugs("run -q " + (dir_->path() / "seq").string() + " --out " + (dir_->path() / "ref").string(), &log), 0)
+        << log;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path seq() { return dir_->path() / "seq"; }
+  // Largest position difference to the reference run, over the same stamps.
+  static double maxDifference(const fs::path& trajectory) {
+    const data::Trajectory a = data::readTrajectory((dir_->path() / "ref/trajectory.tum").string());
+    const data::Trajectory b = data::readTrajectory(trajectory.string());
+    EXPECT_EQ(a.size(), b.size());
+    double d = 0;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+      EXPECT_EQ(a[i].t_ns, b[i].t_ns);
+      d = std::max(d, (a[i].p_W_B - b[i].p_W_B).norm());
+    }
+    return d;
+  }
+  static TempDir* dir_;
+};
+TempDir* CmdRunCalibration::dir_ = nullptr;
+
+TEST_F(CmdRunCalibration, TheSequencesOwnCalibrationThroughOtherToolsFilesGivesItsTrajectory) {
+  const std::string own = (seq() / "mav0/cam0/sensor.yaml").string() + " " + (seq() / "mav0/imu0/sensor.yaml").string();
+  for (const std::string tool : {"openvins", "vins"}) {
+    SCOPED_TRACE(tool);
+    TempDir out;
+    std::string log;
+    ASSERT_EQ(runAdugs("calib convert " + own + " --to " + tool + " --out " + (out / "calib").string(), &log), 0) << log;
+    const std::string files = tool == "vins" ? (out / "calib/config.yaml").string()
+                                             : (out / "calib/kalibr_imucam_chain.yaml").string() + " " +
+                                                   (out / "calib/kalibr_imu_chain.yaml").string();
+    ASSERT_EQ(runAdugs("run -q " + seq().string() + " --calibration " + files + " --out " + (out / "run").string(), &log), 0)
+        << log;
+    EXPECT_LT(maxDifference(out / "run/trajectory.tum"), 1e-6);
+    EXPECT_NE(readFile(out / "run/summary.yaml").find(tool == "vins" ? "config.yaml" : "kalibr_imucam_chain.yaml"),
+              std::string::npos);
+  }
+}
+
+TEST_F(CmdRunCalibration, ImuIntrinsicsAreAppliedToTheSamples) {
+  // A copy of the sequence whose accelerometer x reads 3 % high (images linked, not copied).
+  TempDir copy;
+  for (const auto& entry : fs::recursive_directory_iterator(seq())) {
+    const fs::path rel = fs::relative(entry.path(), seq()), to = copy / rel.string();
+    if (entry.is_directory()) fs::create_directories(to);
+    else if (rel != fs::path("mav0/imu0/data.csv")) fs::create_symlink(entry.path(), to);
+  }
+  std::ifstream in(seq() / "mav0/imu0/data.csv");
+  std::ofstream out(copy / "mav0/imu0/data.csv");
+  std::string line;
+  std::getline(in, line);
+  out << line << "\n";
+  out.precision(17);
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    ASSERT_EQ(f.size(), 7u);
+    out << f[0] << "," << f[1] << "," << f[2] << "," << f[3] << "," << std::stod(f[4]) * 1.03 << "," << f[5] << "," << f[6] << "\n";
+  }
+  out.close();
+  const std::string imu = (seq() / "mav0/imu0/sensor.yaml").string();
+  TempDir calib;
+  std::string log;
+  ASSERT_EQ(runAdugs("calib convert " + (seq() / "mav0/cam0/sensor.yaml").string() + " " + imu +
+                         " --to openvins --out " + calib.path().string(),
+                     &log),
+            0)
+      << log;
+  // The written IMU file with Ta = diag(1.03, 1, 1) (a_meas = Ta a).
+  std::string text = readFile(calib / "kalibr_imu_chain.yaml");
+  const size_t ta = text.find("  Ta:\n    - [1, 0, 0]");
+  ASSERT_NE(ta, std::string::npos) << text;
+  text.replace(ta, std::string("  Ta:\n    - [1, 0, 0]").size(), "  Ta:\n    - [1.03, 0, 0]");
+  writeText(calib / "scaled_imu_chain.yaml", text);
+  const std::string chain = (calib / "kalibr_imucam_chain.yaml").string();
+  TempDir with, without;
+  ASSERT_EQ(runAdugs("run -q " + copy.path().string() + " --calibration " + chain + " " + (calib / "scaled_imu_chain.yaml").string() +
+                         " --out " + with.path().string(),
+                     &log),
+            0)
+      << log;
+  ASSERT_EQ(runAdugs("run -q " + copy.path().string() + " --calibration " + chain + " " + (calib / "kalibr_imu_chain.yaml").string() +
+                         " --out " + without.path().string(),
+                     &log),
+            0)
+      << log;
+  const double corrected = maxDifference(with / "trajectory.tum");
+  const double uncorrected = maxDifference(without / "trajectory.tum");
+  std::cout << "largest difference to the original run: with Ta " << corrected << " m, without " << uncorrected << " m\n";
+  EXPECT_LT(corrected, 1e-6);  // the corrected samples equal the original ones to the CSV's digits
+  EXPECT_GT(uncorrected, 100 * std::max(corrected, 1e-6));
 }
 
 }  // namespace
