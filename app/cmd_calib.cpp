@@ -247,7 +247,8 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (!a.model.empty()) {
     std::string m = a.model;
     if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
-    if (!data::parseDistortionModel(m, o.intrinsics.model))
+    if (!data::parseDistortionModel(m, o.intrinsics.model) ||
+        o.intrinsics.model == data::DistortionModel::kNone)  // nothing to calibrate
       throw data::InputError(kCli, 0, "--model",
                              "unknown distortion model '" + a.model +
                                  "' (use radtan or equidistant, optionally as pinhole-radtan / "

@@ -60,9 +60,12 @@ RunConfig loadRunConfig(const std::string& path) {
 RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated) {
   std::ostringstream what;
   what << std::setprecision(3) << camera.rate_hz << " Hz camera";  // a bag's measured rate: 30.5, not 30.5095
+  // No distortion: 'none', or radtan with zero coefficients (equidistant always bends rays).
   const bool ideal_pinhole =
-      camera.distortion_model == data::DistortionModel::kRadialTangential &&
-      std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; });
+      camera.projection == data::ProjectionModel::kPinhole &&
+      (camera.distortion_model == data::DistortionModel::kNone ||
+       (camera.distortion_model == data::DistortionModel::kRadialTangential &&
+        std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; })));
   if (simulated) return {"sim.yaml", "written by adugs sim with a simulated IMU: the simulator class"};
   if (camera.rate_hz >= 25.0) return {"d435i.yaml", what.str() + ": the RealSense D435i class (30 Hz)"};
   if (!(camera.rate_hz > 0))

@@ -52,8 +52,9 @@ const char* stageName(IntrinsicsStage stage) {
 void readIntrinsicsOptions(data::YamlOptionsReader& r, IntrinsicsOptions& o) {
   std::string model;
   if (r.optional("distortion_model", model)) {
-    r.check(data::parseDistortionModel(model, o.model), "distortion_model",
-            "unknown distortion model '" + model + "' (use radtan or equidistant)");
+    // 'none' is no lens to calibrate: this calibration estimates a distortion.
+    r.check(data::parseDistortionModel(model, o.model) && o.model != data::DistortionModel::kNone,
+            "distortion_model", "unknown distortion model '" + model + "' (use radtan or equidistant)");
   }
   r.optional("min_views", o.min_views, 1, 100000);
   r.optional("min_corners_per_view", o.min_corners_per_view, 4, 100000);

@@ -50,7 +50,7 @@ std::string formatIntrinsicsReport(const IntrinsicsResult& r, const IntrinsicsJu
   static const char* kNames[2][8] = {
       {"fu", "fv", "pu", "pv", "k1", "k2", "p1", "p2"},
       {"fu", "fv", "pu", "pv", "k1", "k2", "k3", "k4"}};
-  const int m = c.model == DistortionModel::kRadialTangential ? 0 : 1;
+  const int m = c.model == DistortionModel::kEquidistant ? 1 : 0;
   s += "Intrinsics (1-sigma from the covariance, scaled by the residual variance; the formal\n"
        "1-sigma assumes independent corners and a right model: on real data the error is several\n"
        "times larger)\n";

@@ -19,7 +19,7 @@ const char* const kParamNames[2][8] = {{"fu", "fv", "pu", "pv", "k1", "k2", "p1"
                                        {"fu", "fv", "pu", "pv", "k1", "k2", "k3", "k4"}};
 
 const char* paramName(const PinholeCamera& c, int i) {
-  return kParamNames[c.model == DistortionModel::kRadialTangential ? 0 : 1][i];
+  return kParamNames[c.model == DistortionModel::kEquidistant ? 1 : 0][i];
 }
 
 const std::string kMoreViews =
@@ -247,7 +247,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
       if (j.distortion_sigma_px > o.max_distortion_sigma_px) {
         std::string names;
         for (int i = 4; i < 8; ++i) {
-          if (c.model == DistortionModel::kRadialTangential && r.sigma[i] == 0) continue;
+          if (c.model != DistortionModel::kEquidistant && r.sigma[i] == 0) continue;
           j.poorly_determined[static_cast<size_t>(i)] = true;
           names += (names.empty() ? "" : ", ") + std::string(paramName(c, i));
         }
@@ -271,6 +271,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
       std::string names;
       for (int i = 2; i < 8; ++i) {
         if (j.poorly_determined[static_cast<size_t>(i)]) continue;
+        if (c.model == DistortionModel::kNone && i >= 4) continue;  // no coefficients to judge
         if (c.model == DistortionModel::kRadialTangential && i >= 6 && c.params[i] == 0) continue;
         j.poorly_determined[static_cast<size_t>(i)] = true;
         names += (names.empty() ? "" : ", ") + std::string(paramName(c, i));

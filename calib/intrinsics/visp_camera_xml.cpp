@@ -47,11 +47,13 @@ void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
   const unsigned w = static_cast<unsigned>(c.width), h = static_cast<unsigned>(c.height);
   if (parser.save(without, tmp, camera_name, w, h) != vpXmlParserCamera::SEQUENCE_OK)
     throw data::InputError(path, 0, "", "vpXmlParserCamera could not write the camera");
-  const bool radial_only = c.model == DistortionModel::kRadialTangential && c.params[5] == 0 &&
-                           c.params[6] == 0 && c.params[7] == 0;
+  const bool no_lens = c.model == DistortionModel::kNone;
+  const bool radial_only = no_lens || (c.model == DistortionModel::kRadialTangential &&
+                                       c.params[5] == 0 && c.params[6] == 0 && c.params[7] == 0);
   if (radial_only) {
     vpCameraParameters with;
-    with.initPersProjWithDistortion(c.fu(), c.fv(), c.pu(), c.pv(), c.params[4], fitKdu(c));
+    with.initPersProjWithDistortion(c.fu(), c.fv(), c.pu(), c.pv(), no_lens ? 0.0 : c.params[4],
+                                    no_lens ? 0.0 : fitKdu(c));
     vpXmlParserCamera again;
     if (again.save(with, tmp, camera_name, w, h) != vpXmlParserCamera::SEQUENCE_OK)
       throw data::InputError(path, 0, "", "vpXmlParserCamera could not write the camera");

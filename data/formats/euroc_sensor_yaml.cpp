@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "data/camera_model.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
 
@@ -123,14 +124,29 @@ CameraCalibration parseCamera(YamlOptionsReader r) {
 
   readPinholeIntrinsics(r, &cam);
 
+  // adugs' own keys for a wide-angle projection (absent: pinhole, as in every EuRoC file).
+  std::string projection;
+  if (r.optional("projection", projection)) {
+    r.check(parseProjectionModel(projection, cam.projection), "projection",
+            "expected 'pinhole', 'omni', 'ds' or 'eucm', found '" + projection + "'");
+    const int n = projectionParameterCount(cam.projection);
+    if (n > 0) r.required("projection_params", cam.projection_params);
+    r.check(static_cast<int>(cam.projection_params.size()) == n, "projection_params",
+            "projection " + projection + " takes " + std::to_string(n) + " parameters, found " +
+                std::to_string(cam.projection_params.size()));
+  }
+
   std::string dist;
   r.required("distortion_model", dist);
   if (dist == "radial-tangential") {
     cam.distortion_model = DistortionModel::kRadialTangential;
   } else if (dist == "equidistant") {
     cam.distortion_model = DistortionModel::kEquidistant;
+  } else if (dist == "none") {
+    cam.distortion_model = DistortionModel::kNone;
   } else {
-    r.fail("distortion_model", "expected 'radial-tangential' or 'equidistant', found '" + dist + "'");
+    r.fail("distortion_model",
+           "expected 'radial-tangential', 'equidistant' or 'none', found '" + dist + "'");
   }
   r.required("distortion_coefficients", cam.distortion);
   r.check(cam.distortion.size() == 4, "distortion_coefficients",
@@ -189,6 +205,10 @@ std::string formatEurocCameraYaml(const CameraCalibration& c, const std::string&
   s += "resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
   s += "camera_model: pinhole\n";
   s += "intrinsics: " + list({c.fx, c.fy, c.cx, c.cy}) + " #fu, fv, cu, cv\n";
+  if (c.projection != ProjectionModel::kPinhole) {  // pinhole files stay plain EuRoC
+    s += "projection: " + toString(c.projection) + "\n";
+    s += "projection_params: " + list(c.projection_params) + "\n";
+  }
   s += "distortion_model: " + toString(c.distortion_model) + "\n";
   s += "distortion_coefficients: " + list(c.distortion) + "\n";
   return s;

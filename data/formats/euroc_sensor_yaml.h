@@ -6,8 +6,11 @@
 // T_BS (rows: 4, cols: 4, data: 16 numbers, row-major) must be a rigid transform: the rotation
 // part orthonormal with det +1 within kRigidTolerance and the last row 0 0 0 1; the rotation is
 // then re-orthonormalised so T_B_C is an exact isometry.
-// Supported: camera_model pinhole; distortion_model radial-tangential (k1 k2 p1 p2) or
-// equidistant (k1 k2 k3 k4), exactly 4 coefficients.
+// Supported: camera_model pinhole; distortion_model radial-tangential (k1 k2 p1 p2),
+// equidistant (k1 k2 k3 k4) or none, exactly 4 coefficients. adugs' optional keys `projection`
+// (pinhole, omni, ds, eucm: data/calibration.h) and `projection_params` (xi / xi alpha / alpha
+// beta) name a wide-angle projection before the distortion; they are written only when it is not
+// pinhole, so pinhole files stay plain EuRoC.
 // Writing produces EuRoC-style files (with the "%YAML:1.0" line) that read back to the same values.
 #include <string>
 #include <vector>

@@ -8,6 +8,8 @@
 namespace adugs::data {
 
 bool SimCamera::hasDistortion() const {
+  if (projection != ProjectionModel::kPinhole) return true;
+  if (distortion_model == DistortionModel::kNone) return false;
   if (distortion_model == DistortionModel::kEquidistant) return true;
   for (double k : distortion)
     if (k != 0) return true;
@@ -15,9 +17,12 @@ bool SimCamera::hasDistortion() const {
 }
 
 CameraModel SimCamera::model() const {
+  // Zero radtan coefficients are no distortion (the model skips the iterations).
+  const bool zero_radtan = distortion_model == DistortionModel::kRadialTangential &&
+                           distortion == std::array<double, 4>{};
   const CameraModel::Distortion d =
-      hasDistortion() ? CameraModel::fromModel(distortion_model) : CameraModel::Distortion::kNone;
-  return CameraModel(width, height, fx, fy, cx, cy, d, distortion);
+      zero_radtan ? CameraModel::Distortion::kNone : CameraModel::fromModel(distortion_model);
+  return CameraModel(width, height, fx, fy, cx, cy, projection, projection_params, d, distortion);
 }
 
 SimCamera SimCamera::scaled(double s) const {
@@ -41,6 +46,8 @@ SimCamera simCameraFromCalibration(const CameraCalibration& calib, const std::st
   c.width = calib.width;
   c.height = calib.height;
   c.fx = calib.fx, c.fy = calib.fy, c.cx = calib.cx, c.cy = calib.cy;
+  c.projection = calib.projection;
+  c.projection_params = calib.projection_params;
   c.distortion_model = calib.distortion_model;
   for (size_t i = 0; i < 4; ++i) c.distortion[i] = calib.distortion[i];
   try {
@@ -57,6 +64,8 @@ CameraCalibration calibrationFromSimCamera(const SimCamera& camera, const Eigen:
   c.width = camera.width;
   c.height = camera.height;
   c.fx = camera.fx, c.fy = camera.fy, c.cx = camera.cx, c.cy = camera.cy;
+  c.projection = camera.projection;
+  c.projection_params = camera.projection_params;
   c.distortion_model = camera.distortion_model;
   c.distortion.assign(camera.distortion.begin(), camera.distortion.end());
   c.T_B_C = T_B_C;

@@ -1,10 +1,12 @@
 #pragma once
-// The simulated camera as a description: size, intrinsics and a radial-tangential (default, EuRoC
-// cam0) or equidistant (fisheye) lens. All projection maths is data::CameraModel's (model()).
+// The simulated camera as a description: size, intrinsics, a projection (pinhole by default; omni,
+// ds, eucm for wide-angle lenses) and a radial-tangential (default, EuRoC cam0), equidistant
+// (fisheye) or no distortion. All projection maths is data::CameraModel's (model()).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
 #include <string>
+#include <vector>
 
 #include "data/camera_model.h"
 #include "data/formats/euroc_sensor_yaml.h"
@@ -15,7 +17,10 @@ struct SimCamera {
   int width = 752;
   int height = 480;
   double fx = 458.654, fy = 457.296, cx = 367.215, cy = 248.375;
-  // radtan: k1, k2 radial, p1, p2 tangential (OpenCV order); equidistant: k1..k4.
+  // How rays reach the plane the distortion acts on, and its parameters (data/calibration.h).
+  ProjectionModel projection = ProjectionModel::kPinhole;
+  std::vector<double> projection_params;
+  // radtan: k1, k2 radial, p1, p2 tangential (OpenCV order); equidistant: k1..k4; none: zeros.
   DistortionModel distortion_model = DistortionModel::kRadialTangential;
   std::array<double, 4> distortion{-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
 
@@ -36,16 +41,19 @@ struct SimCamera {
   // Pixel -> ray (x, y, 1) in the camera frame (not unit length: z = 1).
   Eigen::Vector3d unproject(const Eigen::Vector2d& uv) const { return model().unproject(uv); }
 
-  // False only for radtan with all-zero coefficients (equidistant always bends rays).
+  // Whether straight lines stay straight in the image: false only for a pinhole camera without
+  // distortion (none, or radtan with all-zero coefficients); equidistant and the wide-angle
+  // projections always bend them.
   bool hasDistortion() const;
   bool inImage(const Eigen::Vector2d& uv) const {
     return uv.x() >= -0.5 && uv.y() >= -0.5 && uv.x() < width - 0.5 && uv.y() < height - 0.5;
   }
-  // Same camera for an image scaled by s (intrinsics scaled, distortion unchanged).
+  // Same camera for an image scaled by s (intrinsics scaled; projection and distortion act on
+  // normalised coordinates, unchanged).
   SimCamera scaled(double s) const;
 };
 
-// From a parsed EuRoC cam0/sensor.yaml (radial-tangential or equidistant); throws InputError
+// From a parsed EuRoC cam0/sensor.yaml (any projection and distortion); throws InputError
 // (naming `source`) for anything the camera model refuses.
 SimCamera simCameraFromCalibration(const CameraCalibration& calib, const std::string& source);
 // The EuRoC description of a simulated camera.

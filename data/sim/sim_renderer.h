@@ -1,6 +1,6 @@
 #pragma once
 // Software renderer of a SimScene: per-pixel ray casting through the camera model
-// (data/camera_model.h: radtan or equidistant). Each pixel's ray is undistorted once (at
+// (data/camera_model.h: any of its projections and distortions). Each pixel's ray is undistorted once (at
 // construction); pixels whose ray is 85 degrees or more off-axis (a fisheye's corners, outside its
 // image circle) stay black. A frame then rasterises every quad in the pixel box its
 // frustum-clipped outline covers (outline edges sampled until samples are at most 4 pixels apart,

@@ -45,6 +45,8 @@ Prepared prepareSynthetic(const SimSequenceOptions& o) {
   const int64_t end = o.start_ns + secToNs(o.duration_s);
   p.trajectory = std::make_unique<SineTrajectory>(makeSceneTrajectory(o.scene, o.seed, o.start_ns, end, o.motion));
   p.camera = o.camera;
+  if (!o.camera_path.empty())
+    p.camera = simCameraFromCalibration(readEurocCameraYaml(o.camera_path), o.camera_path);
   p.T_B_C = o.T_B_C;
   p.camera_rate_hz = o.camera_rate_hz;
   SimImuOptions imu = o.imu;
@@ -120,6 +122,7 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
   s << "mode: " << (isHybrid(o) ? "hybrid" : "synthetic") << "\n";
   s << "scene: " << o.scene << "\nlevel: " << toString(o.level) << "\nseed: " << o.seed << "\n";
   if (!isHybrid(o)) s << "motion: " << o.motion << "\n";
+  if (!isHybrid(o) && !o.camera_path.empty()) s << "camera: " << o.camera_path << "\n";
   if (isHybrid(o))
     s << "trajectory: " << o.trajectory_path << "\nimu: " << o.imu_path << "\ncalib: " << o.calib_path << "\n";
   s << "start_ns: " << p.trajectory->startNs() << "\nend_ns: " << p.trajectory->endNs() << "\n";

@@ -27,6 +27,9 @@ struct SimSequenceOptions {
   double camera_rate_hz = 20.0;
   int64_t start_ns = kSimDefaultStartNs;
   SimCamera camera;  // synthetic mode; hybrid takes it from calib_path
+  // Synthetic mode: a cam0/sensor.yaml whose lens (resolution, intrinsics, projection,
+  // distortion) replaces `camera`; its T_BS and rate are not used ("" = keep `camera`).
+  std::string camera_path;
   Eigen::Isometry3d T_B_C = defaultSimT_B_C();
   // Kalibr's timeshift_cam_imu: an image stamped t_cam was exposed at IMU time t_cam + offset.
   double time_offset_s = 0.0;

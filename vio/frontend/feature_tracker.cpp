@@ -37,6 +37,15 @@ void validateOptions(const FeatureTrackerOptions& o) {
   if (!ok) throw std::invalid_argument("FeatureTracker: invalid FeatureTrackerOptions");
 }
 
+// The estimator works on (x, y, 1) rays: a pixel whose ray is 89 degrees or more off-axis, or
+// that has no ray (outside a wide-angle lens' image circle), cannot be a feature.
+const double kMinRayZ = std::cos(89.0 * M_PI / 180.0);
+
+bool hasForwardRay(const data::CameraModel& camera, const cv::Point2f& p) {
+  Eigen::Vector3d ray;
+  return camera.unproject(Eigen::Vector2d(p.x, p.y), &ray) && ray.z() > kMinRayZ;
+}
+
 }  // namespace
 
 // vpKltOpencv keeps the previous image and the point list itself, and track(I) runs OpenCV's
@@ -146,7 +155,8 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
   std::vector<int> src;  // index into prev of each candidate
   std::vector<cv::Point2f> cur;
   for (size_t k = 0; k < fwd.size(); ++k) {
-    if (!camera_.inImage(fwd[k].x, fwd[k].y, options_.border_px)) continue;
+    if (!camera_.inImage(fwd[k].x, fwd[k].y, options_.border_px) || !hasForwardRay(camera_, fwd[k]))
+      continue;
     src.push_back(static_cast<int>(fwd_index[k]));
     cur.push_back(fwd[k]);
   }
@@ -294,8 +304,11 @@ void FeatureTracker::detect(const cv::Mat& image, const cv::Mat& mask, FrameFeat
   t = Clock::now();
   const std::vector<int> chosen =
       selectAnms(candidates, stats_.requested, options_.min_distance_px, out->pixels);
+  int added = 0;
   for (int c : chosen) {
     const cv::Point2f p = candidates[c].pt;
+    if (!hasForwardRay(camera_, p)) continue;
+    ++added;
     out->ids.push_back(next_id_++);
     out->pixels.push_back(p);
     out->prev_pixels.push_back(p);
@@ -304,7 +317,7 @@ void FeatureTracker::detect(const cv::Mat& image, const cv::Mat& mask, FrameFeat
     out->velocities.push_back(Eigen::Vector2d::Zero());
     next_anchors_.push_back(makeAnchor(image, p));
   }
-  stats_.new_points = static_cast<int>(chosen.size());
+  stats_.new_points = added;
   stats_.anms_ms = data::msSince(t);
 }
 
