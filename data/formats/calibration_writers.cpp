@@ -1,28 +1,18 @@
 #include "data/formats/calibration_writers.h"
 
-#include <charconv>
 #include <cmath>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "data/formats/number_text.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
 namespace {
 
-// Shortest text that parses back to exactly v.
-std::string num(double v) {
-  char buf[64];
-  auto res = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, res.ptr);
-}
-
-std::string list(const std::vector<double>& v) {
-  std::string s = "[";
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
-  return s + "]";
-}
+std::string num(double v) { return shortestText(v); }
+std::string list(const std::vector<double>& v) { return listText(v); }
 
 std::string yamlRows(const Eigen::MatrixXd& m, const std::string& indent) {
   std::string s;

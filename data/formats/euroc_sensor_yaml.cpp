@@ -1,10 +1,10 @@
 #include "data/formats/euroc_sensor_yaml.h"
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 
 #include "data/camera_model.h"
+#include "data/formats/number_text.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
 
@@ -71,18 +71,8 @@ void requirePositive(const YamlOptionsReader& r, const std::string& key, double 
   r.check(v > 0, key, "must be positive, found " + detail::numberText(v));
 }
 
-// Shortest text that parses back to exactly v.
-std::string num(double v) {
-  char buf[64];
-  auto res = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, res.ptr);
-}
-
-std::string list(const std::vector<double>& v) {
-  std::string s = "[";
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
-  return s + "]";
-}
+std::string num(double v) { return shortestText(v); }
+std::string list(const std::vector<double>& v) { return listText(v); }
 
 std::string transformYaml(const Eigen::Isometry3d& T) {
   std::string s = "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
