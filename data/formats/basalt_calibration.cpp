@@ -140,8 +140,9 @@ void readBasaltFile(YamlOptionsReader root, RigCalibration& rig) {
     cam.camera = readIntrinsics(intrinsics[i]);
     collectIgnored(intrinsics[i], rig);
     const auto& wh = resolution[i];
-    r.check(wh.size() == 2 && wh[0] >= 1 && wh[1] >= 1 && wh[0] == static_cast<int>(wh[0]) &&
-                wh[1] == static_cast<int>(wh[1]),
+    // Range first: casting a huge double to int is undefined.
+    r.check(wh.size() == 2 && wh[0] >= 1 && wh[1] >= 1 && wh[0] <= 1e5 && wh[1] <= 1e5 &&
+                wh[0] == static_cast<int>(wh[0]) && wh[1] == static_cast<int>(wh[1]),
             "resolution", "expected [width, height] for camera " + std::to_string(i));
     cam.camera.width = static_cast<int>(wh[0]);
     cam.camera.height = static_cast<int>(wh[1]);

@@ -137,6 +137,8 @@ void readVinsFile(YamlOptionsReader r, const std::string& path, RigCalibration& 
       const std::string key = "cam" + std::to_string(i) + "_calib";
       std::string file;
       r.required(key, file);
+      // Text without a file (a preset, the fuzzer) has no folder to find camera files in.
+      r.check(!path.empty(), key, "a configuration given as text cannot name camera files");
       const std::string camera_path = (fs::path(path).parent_path() / file).string();
       RigCamera cam;
       cam.source = camera_path;
