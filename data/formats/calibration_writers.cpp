@@ -84,7 +84,6 @@ std::string camchain(const RigCalibration& rig, bool openvins) {
         s += "  T_cn_cnm1:\n" +
              yamlRows((cam.camera.T_B_C.inverse() * rig.cameras[i - 1].camera.T_B_C).matrix(), "    ");
     }
-    std::vector<double> overlaps;
     s += "  cam_overlaps: []\n";
     s += kalibrCamera(cam.camera, "  ");
     s += "  rostopic: " + (cam.rostopic.empty() ? "/cam" + std::to_string(i) + "/image_raw" : cam.rostopic) + "\n";

@@ -99,10 +99,6 @@ CameraCalibration readCamera(YamlOptionsReader& r) {
   return cam;
 }
 
-Eigen::Isometry3d rigid(YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m) {
-  return rigidTransform(r, key, m, kForeignRigidTolerance);
-}
-
 void collectIgnored(const YamlOptionsReader& r, RigCalibration& rig) {
   for (const std::string& key : r.unusedKeys()) rig.ignored_keys.push_back(r.source() + ": " + key);
 }
@@ -157,7 +153,7 @@ void readVinsFile(YamlOptionsReader r, const std::string& path, RigCalibration& 
                                    "x" + std::to_string(cam.camera.height) + " is used)");
       const std::string ext = "body_T_cam" + std::to_string(i);
       if (r.has(ext)) {
-        cam.camera.T_B_C = rigid(r, ext, readOpenCvMatrix(r, ext, 4, 4));
+        cam.camera.T_B_C = rigidTransform(r, ext, readOpenCvMatrix(r, ext, 4, 4), kForeignRigidTolerance);
         cam.has_T_imu_cam = true;
       }
       cam.time_offset_s = td;
@@ -176,7 +172,7 @@ void readVinsFile(YamlOptionsReader r, const std::string& path, RigCalibration& 
       Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
       m.topLeftCorner<3, 3>() = readOpenCvMatrix(r, "extrinsicRotation", 3, 3);
       m.topRightCorner<3, 1>() = readOpenCvMatrix(r, "extrinsicTranslation", 3, 1);
-      cam.camera.T_B_C = rigid(r, "extrinsicRotation", m);
+      cam.camera.T_B_C = rigidTransform(r, "extrinsicRotation", m, kForeignRigidTolerance);
       cam.has_T_imu_cam = true;
     }
     cam.time_offset_s = td;
