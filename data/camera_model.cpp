@@ -167,6 +167,13 @@ void CameraModel::validate() const {
                                 kalibrName(toModel(distortion_)) + ")");
 }
 
+double CameraModel::centreFocalPx() const {
+  Eigen::Vector2d uv;
+  Eigen::Matrix<double, 2, 3> J;
+  project(Eigen::Vector3d::UnitZ(), &uv, &J);  // d(uv)/d(xn) at xn = 0 is J's left 2x2
+  return 0.5 * (J(0, 0) + J(1, 1));
+}
+
 std::vector<double> CameraModel::projectionParams() const {
   return std::vector<double>(q_.begin(), q_.begin() + projectionParameterCount(projection_));
 }

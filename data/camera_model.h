@@ -189,6 +189,10 @@ class CameraModel {
   // projectionParameterCount(projection()) values.
   std::vector<double> projectionParams() const;
   bool isPinhole() const { return projection_ == ProjectionModel::kPinhole; }
+  // Pixels per normalised unit on the optical axis, mean of both axes: the focal length pixel
+  // thresholds and the estimator's pixel noise convert with. (fx + fy) / 2 for pinhole cameras;
+  // the wide-angle projections scale it (omni and ds: / (1 + xi) there).
+  double centreFocalPx() const;
   Distortion distortion() const { return distortion_; }
   const std::array<double, 4>& coeffs() const { return k_; }
   // The camera matrix K as OpenCV wants it (CV_64F 3x3) and the coefficients as a 1x4 Mat

@@ -64,7 +64,7 @@ Pipeline::Pipeline(data::SequenceSource& source, const data::CameraCalibration& 
   front_end_ = std::make_unique<FrontEndStage>(options_.tracker, model, camera.T_B_C);
   std::unique_ptr<vio::SlidingWindowEstimator> estimator;
   if (options_.estimate)
-    estimator = std::make_unique<vio::SlidingWindowEstimator>(options_.estimator, 0.5 * (model.fx() + model.fy()),
+    estimator = std::make_unique<vio::SlidingWindowEstimator>(options_.estimator, model.centreFocalPx(),
                                                               camera.T_B_C, options_.imu);
   estimator_ = std::make_unique<EstimatorStage>(std::move(estimator), options_.trajectory_path,
                                                 options_.test_estimator_delay_ms);

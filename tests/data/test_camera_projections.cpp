@@ -418,6 +418,27 @@ TEST(CameraProjections, NoDistortionIsNoDistortionEverywhere) {
   EXPECT_EQ(back.projection, ProjectionModel::kPinhole);
 }
 
+// The focal length on the axis: the pinhole's, and fx / (1 + xi) for omni and ds (den = 1 + xi
+// there), fx for eucm (den = 1).
+TEST(CameraProjections, CentreFocalLength) {
+  EXPECT_NEAR(CameraModel(640, 480, 500, 510, 320, 240).centreFocalPx(), 505, 1e-9);
+  EXPECT_NEAR(CameraModel(640, 480, 500, 510, 320, 240, CameraModel::Distortion::kRadialTangential,
+                          {-0.3, 0.1, 0.001, 0.002})
+                  .centreFocalPx(),
+              505, 1e-9);
+  EXPECT_NEAR(CameraModel(640, 480, 600, 600, 320, 240, ProjectionModel::kUnified, {0.5})
+                  .centreFocalPx(),
+              400, 1e-9);
+  EXPECT_NEAR(CameraModel(640, 480, 349.7, 348.7, 320, 240, ProjectionModel::kDoubleSphere,
+                          {-0.2441, 0.5662})
+                  .centreFocalPx(),
+              349.2 / 0.7559, 1e-9);
+  EXPECT_NEAR(CameraModel(640, 480, 460, 458, 320, 240, ProjectionModel::kExtendedUnified,
+                          {0.59, 1.13})
+                  .centreFocalPx(),
+              459, 1e-9);
+}
+
 TEST(CameraProjections, ProjectionNames) {
   ProjectionModel m = ProjectionModel::kPinhole;
   EXPECT_TRUE(parseProjectionModel("omni", m));

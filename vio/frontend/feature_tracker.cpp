@@ -212,7 +212,7 @@ void FeatureTracker::track(const cv::Mat& image, const cv::Mat& mask, FrameFeatu
     for (size_t j = 0; j < stat.size(); ++j)
       a[j] = prev.normalized[src[stat[j]]], b[j] = cur_norm[stat[j]];
     FundamentalRansacOptions ro;
-    ro.focal_px = 0.5 * (camera_.fx() + camera_.fy());
+    ro.focal_px = camera_.centreFocalPx();
     ro.threshold_px = options_.ransac_threshold_px;
     ro.confidence = options_.ransac_confidence;
     inlier = fundamentalInliers(a, b, ro);
