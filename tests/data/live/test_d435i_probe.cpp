@@ -1,6 +1,7 @@
 // `adugs d435i info` on the simulated camera: what it lists, and the streaming check.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <sstream>
 #include <thread>
 
@@ -45,13 +46,20 @@ TEST(D435iProbe, StreamCheckReportsRatesAndTheClock) {
   test::TempDir dir("adugs_live");
   test::FakeD435i fake(dir.path());
   std::ostringstream out;
+  // The device starts once the check has opened everything: its last step turns the infrared node's
+  // streaming on (after the IIO FIFOs were opened), an event of the fake, not a guessed delay.
+  bool started = false;
   std::thread starter([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // after the source opened the FIFOs
-    fake.start();
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);  // hang guard only
+    while (!fake.v4l2().state(fake.devRoot() + "/video0").streaming && std::chrono::steady_clock::now() < give_up)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    started = fake.v4l2().state(fake.devRoot() + "/video0").streaming;
+    if (started) fake.start();
   });
   data::printD435iStreamCheck(out, fake.options(), 1.5, fake.v4l2());
   starter.join();
   fake.stop();
+  ASSERT_TRUE(started) << "the stream check never turned the infrared node's streaming on (30 s)\n" << out.str();
   const std::string s = out.str();
   for (const char* needle : {"streaming 1.5 s", "frames ", "IMU ", "lost: 0 frames by the driver",
                              "frames on the camera clock (metadata), IMU on the camera clock"})
