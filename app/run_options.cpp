@@ -62,7 +62,8 @@ void addMaskOptions(CLI::App* cmd, MaskArgs& args) {
   MaskingOptions& m = args.masking;
   cmd->add_option("--mask", m.source,
                   "dynamic mask per frame: none; gt = the simulator's mav0/mask0 masks; detector = "
-                  "detector -> SORT -> box segmentation -> refinement")
+                  "detector (+ motion cue) -> SORT -> box segmentation -> refinement; motion = the same chain prompted "
+                  "by the class-free motion cue alone (points moving against the camera's own motion; no model)")
       ->transform(CLI::CheckedTransformer(maskSourceNames()))
       ->default_str("none");
   cmd->add_option("--detector-config", m.detector_config, "--mask detector: darknet .cfg (default: beside the .weights)")
@@ -74,7 +75,10 @@ void addMaskOptions(CLI::App* cmd, MaskArgs& args) {
                   "--mask detector: run the detector on every n-th frame; SORT's predictions carry the boxes between "
                   "(default: the run config's dynamic: detect_every, 1)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--segmenter", m.segmenter, "--mask detector: box segmenter")
+  cmd->add_flag("--motion-cue,!--no-motion-cue", m.motion_cue,
+               "--mask detector: the motion cue's boxes beside the detector's (off until measured on Table I: "
+               "doc/tracking.md)");
+  cmd->add_option("--segmenter", m.segmenter, "--mask detector|motion: box segmenter")
       ->check(CLI::IsMember({"grabcut", "box", "mobilesam"}))
       ->capture_default_str();
   cmd->add_option("--sam-encoder", m.sam_encoder, "--segmenter mobilesam: mobilesam_encoder.pt (scripts/export_mobilesam.py)");

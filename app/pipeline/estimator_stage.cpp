@@ -13,7 +13,7 @@ EstimatorStage::EstimatorStage(std::unique_ptr<vio::SlidingWindowEstimator> esti
   if (estimator_) writer_ = std::make_unique<data::TumTrajectoryWriter>(trajectory_path);
 }
 
-void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, BiasFeedback* biases,
+void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, EstimatorFeedback* biases,
                          PipelineCounters& counters, bool live) {
   counters.estimating = estimator_ != nullptr;
   PipelineFrame f;
@@ -26,7 +26,11 @@ void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* vie
       const auto state = estimator_->addFrame(f.features);
       f.backend_ms = data::msSince(t0);
       stats_.backend_ms.push_back(f.backend_ms);
-      if (biases) biases->publish(estimator_->gyroBias());
+      if (biases) {
+        std::optional<Eigen::Vector3d> v_B;
+        if (state) v_B = state->q_W_B.conjugate() * state->v_W;
+        biases->publish(estimator_->gyroBias(), v_B);
+      }
       if (state) {
         data::StampedPose p;
         p.t_ns = state->t_ns;

@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/pipeline_stats.h"
 #include "data/formats/trajectory_io.h"
@@ -28,7 +28,7 @@ class EstimatorStage {
   // publishes the bias after every frame (closing `biases` at the end). live: the view never holds
   // the pipeline back, frames it is not ready for are not drawn (counted); playback: it gets every
   // frame. Exceptions propagate.
-  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, BiasFeedback* biases,
+  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* view, EstimatorFeedback* biases,
            PipelineCounters& counters, bool live);
 
   const PipelineStats& stats() const { return stats_; }  // after run()

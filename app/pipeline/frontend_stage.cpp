@@ -8,7 +8,7 @@ FrontEndStage::FrontEndStage(const vio::FeatureTrackerOptions& options, const da
                              const Eigen::Isometry3d& T_B_C)
     : tracker_(options, camera), R_B_C_(T_B_C.rotation()) {}
 
-void FrontEndStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases) {
+void FrontEndStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, EstimatorFeedback* biases) {
   PipelineFrame f;
   int64_t previous_t = -1;
   while (in.pop(&f)) {

@@ -7,7 +7,7 @@
 // the first two frames, and always without an estimator), whatever the threads' timing.
 #include <Eigen/Geometry>
 
-#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/pipeline_frame.h"
 #include "data/camera_model.h"
@@ -24,7 +24,7 @@ class FrontEndStage {
 
   // Until `in` is drained or `out` closed; then closes `out`. biases: nullptr without an
   // estimator. Exceptions propagate.
-  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases);
+  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, EstimatorFeedback* biases);
 
   static constexpr int kBiasDelay = 2;  // frame k uses the bias after frame k - 2
 

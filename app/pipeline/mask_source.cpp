@@ -4,7 +4,8 @@ namespace adugs::app {
 
 const std::map<std::string, MaskSource>& maskSourceNames() {
   static const std::map<std::string, MaskSource> names = {
-      {"none", MaskSource::kNone}, {"gt", MaskSource::kGroundTruth}, {"detector", MaskSource::kDetector}};
+      {"none", MaskSource::kNone}, {"gt", MaskSource::kGroundTruth}, {"detector", MaskSource::kDetector},
+      {"motion", MaskSource::kMotion}};
   return names;
 }
 

@@ -20,14 +20,17 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
     if (options_.detector_model.empty())
       throw data::InputError("--detector-model", 0, "detector_model",
                              "--mask detector needs a detector model (ultralytics .torchscript, .onnx or darknet .weights)");
+  }
+  if (options_.source == MaskSource::kDetector || options_.source == MaskSource::kMotion)
     masker_ = std::make_unique<tracking::DynamicMasker>(
         options_.masker, tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
-  }
+  if (options_.source == MaskSource::kMotion || (options_.source == MaskSource::kDetector && options_.motion_cue))
+    motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.motion);
 }
 
 MaskingStage::~MaskingStage() = default;
 
-bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
+bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   const data::Frame& frame = f->frame;
   if (options_.source == MaskSource::kGroundTruth) {
     f->mask = data::loadGroundTruthMask(options_.mask_dir, frame);
@@ -36,14 +39,22 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
   if (!masker_) return true;
   const int64_t previous_t = previous_t_;
   previous_t_ = frame.t_ns;
-  if (options_.masker.camera_motion_compensation) {
+  const bool compensate = options_.masker.camera_motion_compensation;
+  if (compensate || motion_) {
     for (const data::ImuSample& s : f->imu) gyro_.addImu(s);
   }
-  if (options_.masker.camera_motion_compensation && previous_t >= 0) {
-    // The gyro's rotation since the previous frame moves every static pixel; SORT removes it.
-    Eigen::Vector3d bias = Eigen::Vector3d::Zero();
-    if (biases && !biases->waitFor(f->index - kBiasDelay, &bias)) return false;
-    const Eigen::Matrix3d R_Ccur_Cprev = gyro_.cameraRotation(previous_t, frame.t_ns, bias, R_B_C_).transpose();
+  // The gyro's rotation since the previous frame (the identity without an IMU), and for the
+  // motion cue the camera's velocity three frames ago (its direction changes little in 0.1 s).
+  Eigen::Matrix3d R_Ccur_Cprev = Eigen::Matrix3d::Identity();
+  std::optional<Eigen::Vector3d> v_C;
+  if ((compensate || motion_) && previous_t >= 0) {
+    EstimatorFeedback::AfterFrame after;
+    if (biases && !biases->waitFor(f->index - kBiasDelay, &after)) return false;
+    R_Ccur_Cprev = gyro_.cameraRotation(previous_t, frame.t_ns, after.gyro_bias, R_B_C_).transpose();
+    if (after.v_B) v_C = R_B_C_.transpose() * *after.v_B;
+  }
+  if (compensate && previous_t >= 0) {
+    // The rotation moves every static pixel; SORT removes it.
     masker_->compensateCameraMotion([&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
       const Eigen::Vector3d ray = R_Ccur_Cprev * camera_.unproject(p);
       if (ray.z() < 1e-3) return p;
@@ -54,7 +65,11 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
   // The detection stage decided which frames get detections (tracking::isDetectionFrame).
   const auto t0 = std::chrono::steady_clock::now();
   const cv::Mat& image = frame.colour.empty() ? frame.image : frame.colour;
-  const tracking::DynamicMaskResult r = f->detections ? masker_->process(image, *f->detections) : masker_->carry(image);
+  std::vector<tracking::Detection> prompts;
+  if (motion_) prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C);
+  if (f->detections) prompts.insert(prompts.end(), f->detections->begin(), f->detections->end());
+  const tracking::DynamicMaskResult r =
+      f->detections || motion_ ? masker_->process(image, prompts) : masker_->carry(image);
   f->mask_ms = data::msSince(t0);
   f->mask = r.mask;
   f->masked_fraction = r.masked_fraction;
@@ -68,7 +83,7 @@ bool MaskingStage::process(PipelineFrame* f, BiasFeedback* biases) {
   return true;
 }
 
-void MaskingStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases) {
+void MaskingStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, EstimatorFeedback* biases) {
   PipelineFrame f;
   while (in.pop(&f)) {
     if (!process(&f, biases)) break;

@@ -4,18 +4,21 @@
 // before, app/pipeline/detection_stage.h): enhanced SORT -> box segmentation -> refinement
 // (tracking/dynamic_masker.h), on the frame's colour image when the source has one.
 //
-// With the masker's camera-motion compensation on, the gyro rotation since the previous frame
-// uses the estimator's bias after frame k - 3 (app/pipeline/bias_feedback.h): one frame further
+// The motion cue runs on every frame, so with it the masker takes the detector's boxes (on the
+// frames it ran on) and the cue's together on every frame.
+// The motion cue, and the masker's camera-motion compensation when on, take the gyro rotation
+// since the previous frame with the estimator's bias after frame k - 3 (app/pipeline/estimator_feedback.h): one frame further
 // back than the front-end's, so this stage can work a frame ahead of it.
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
 
-#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/mask_source.h"
 #include "app/pipeline/pipeline_frame.h"
 #include "data/camera_model.h"
+#include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker.h"
 #include "vio/imu/gyro_rotation_predictor.h"
 
@@ -27,6 +30,8 @@ struct MaskingOptions {
   std::string detector_model, detector_config;  // for the detection stage; darknet .cfg ("" = beside the .weights)
   std::string segmenter = "grabcut", sam_encoder, sam_decoder;
   tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement (run config's dynamic:)
+  bool motion_cue = false;  // --mask detector: the motion cue's boxes beside the detector's (--motion-cue)
+  tracking::MotionCueOptions motion;
 };
 
 class MaskingStage {
@@ -38,19 +43,20 @@ class MaskingStage {
 
   // Until `in` is drained or `out` closed; then closes `out`. biases: nullptr without an
   // estimator. Exceptions propagate.
-  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, BiasFeedback* biases);
+  void run(Channel<PipelineFrame>& in, Channel<PipelineFrame>& out, EstimatorFeedback* biases);
 
   // The frame-to-frame gap at which this stage's bias is taken (frame k uses the bias after k - 3).
   static constexpr int kBiasDelay = 3;
 
  private:
   // False when the estimator stopped before the bias this frame needs.
-  bool process(PipelineFrame* frame, BiasFeedback* biases);
+  bool process(PipelineFrame* frame, EstimatorFeedback* biases);
 
   MaskingOptions options_;
   data::CameraModel camera_;
   Eigen::Matrix3d R_B_C_;
   std::unique_ptr<tracking::DynamicMasker> masker_;
+  std::unique_ptr<tracking::MotionCue> motion_;
   vio::GyroRotationPredictor gyro_;
   int64_t previous_t_ = -1;
 };

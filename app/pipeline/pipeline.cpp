@@ -137,7 +137,7 @@ PipelineResult Pipeline::run() {
   using Clock = std::chrono::steady_clock;
   const auto wall_start = Clock::now();
   const double cpu_start = processCpuSeconds();
-  BiasFeedback* biases = options_.estimate ? &biases_ : nullptr;
+  EstimatorFeedback* biases = options_.estimate ? &biases_ : nullptr;
   Channel<PipelineFrame>* view = view_ ? &viewed_ : nullptr;
 
   // The stages, named for the CPU figures; each slot is written only by its own thread.

@@ -6,7 +6,7 @@
 //   source -> acquisition -> FrameGate -> detection -> masking -> front-end -> estimator -> [view]
 //                                                         ^            ^            |
 //                                                         +- gyro bias after frame k-3 / k-2
-//                                                            (BiasFeedback)
+//                                                            (EstimatorFeedback)
 //
 // Playback (a source that is not live): the gate waits, nothing is dropped, and the output is the
 // same to the byte whatever the threads' timing. Live: the gate drops the oldest waiting frame
@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/frame_gate.h"
 #include "app/pipeline/masking_stage.h"
@@ -109,7 +109,7 @@ class Pipeline {
   bool live_;
   FrameGate gate_;
   Channel<PipelineFrame> detected_, masked_, tracked_, viewed_;
-  BiasFeedback biases_;
+  EstimatorFeedback biases_;
   PipelineCounters counters_;
   std::unique_ptr<AcquisitionStage> acquisition_;
   std::unique_ptr<DetectionStage> detection_;

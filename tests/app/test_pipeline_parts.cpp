@@ -8,7 +8,7 @@
 #include <string>
 #include <thread>
 
-#include "app/pipeline/bias_feedback.h"
+#include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/frame_gate.h"
 #include "app/pipeline/live_window.h"
 #include "app/pipeline/status_line.h"
@@ -101,8 +101,8 @@ TEST(FrameGate, ClosedGateRefusesFramesAndReleasesAWaitingProducer) {
   EXPECT_FALSE(gate.pop(&f));
 }
 
-TEST(BiasFeedback, WaitsForTheFrameAskedForAndStopsWhenClosed) {
-  BiasFeedback feedback;
+TEST(EstimatorFeedback, WaitsForTheFrameAskedForAndStopsWhenClosed) {
+  EstimatorFeedback feedback;
   Eigen::Vector3d b;
   ASSERT_TRUE(feedback.waitFor(-1, &b));
   EXPECT_EQ(b, Eigen::Vector3d::Zero());
@@ -119,6 +119,22 @@ TEST(BiasFeedback, WaitsForTheFrameAskedForAndStopsWhenClosed) {
   EXPECT_EQ(b, Eigen::Vector3d::Constant(1));
   EXPECT_FALSE(feedback.waitFor(5, &b));  // never published: closed
   estimator.join();
+}
+
+TEST(EstimatorFeedback, CarriesTheVelocityOnceThereIsOne) {
+  EstimatorFeedback feedback;
+  feedback.publish(Eigen::Vector3d(0.1, 0, 0));  // not initialised yet
+  feedback.publish(Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(1, 2, 3));
+  EstimatorFeedback::AfterFrame after;
+  ASSERT_TRUE(feedback.waitFor(0, &after));
+  EXPECT_FALSE(after.v_B.has_value());
+  ASSERT_TRUE(feedback.waitFor(1, &after));
+  EXPECT_EQ(after.gyro_bias, Eigen::Vector3d(0.2, 0, 0));
+  ASSERT_TRUE(after.v_B.has_value());
+  EXPECT_EQ(*after.v_B, Eigen::Vector3d(1, 2, 3));
+  ASSERT_TRUE(feedback.waitFor(-3, &after));  // before any estimate
+  EXPECT_FALSE(after.v_B.has_value());
+  EXPECT_EQ(after.gyro_bias, Eigen::Vector3d::Zero());
 }
 
 volatile std::sig_atomic_t g_previous_handler_calls = 0;

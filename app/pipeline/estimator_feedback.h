@@ -1,0 +1,64 @@
+#pragma once
+// What the estimator knows after each frame, fed back to the stages ahead of it: the gyro bias
+// (the front-end's KLT rotation prediction, the masker's camera-motion compensation) and, once
+// initialised, the body's velocity in its own frame (the motion cue's direction of travel). A
+// stage working on frame k asks for frame k - d, for a fixed d, and waits until the estimator has
+// it: what it gets never depends on the threads' timing, so a playback is reproducible to the byte.
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace adugs::app {
+
+class EstimatorFeedback {
+ public:
+  struct AfterFrame {
+    Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
+    std::optional<Eigen::Vector3d> v_B;  // body velocity in the body frame, once initialised
+  };
+
+  // What holds after the estimator's next frame (frames are numbered 0, 1, ... in the order given).
+  void publish(const Eigen::Vector3d& gyro_bias, const std::optional<Eigen::Vector3d>& v_B = std::nullopt) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    frames_.push_back({gyro_bias, v_B});
+    published_.notify_all();
+  }
+
+  // What held after frame `index` (zero bias and no velocity for index < 0, before any estimate
+  // exists). False when closed before that frame came.
+  bool waitFor(int index, AfterFrame* after) {
+    if (index < 0) {
+      *after = AfterFrame();
+      return true;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    published_.wait(lock, [&] { return closed_ || static_cast<int>(frames_.size()) > index; });
+    if (static_cast<int>(frames_.size()) <= index) return false;
+    *after = frames_[index];
+    return true;
+  }
+  // The bias alone.
+  bool waitFor(int index, Eigen::Vector3d* gyro_bias) {
+    AfterFrame after;
+    if (!waitFor(index, &after)) return false;
+    *gyro_bias = after.gyro_bias;
+    return true;
+  }
+
+  void close() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+    published_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable published_;
+  std::vector<AfterFrame> frames_;  // 56 bytes a frame: an hour at 30 Hz is 6 MB
+  bool closed_ = false;
+};
+
+}  // namespace adugs::app

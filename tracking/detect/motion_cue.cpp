@@ -1,0 +1,294 @@
+#include "tracking/detect/motion_cue.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <bitset>
+#include <cmath>
+#include <limits>
+#include <Eigen/Eigenvalues>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <stdexcept>
+
+namespace adugs::tracking {
+namespace {
+
+// Angle between two unit rays.
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// Angle of b to the epipolar plane of a for the translation direction t (unit vectors); the
+// plain angle between a and b where that plane is undefined (a along t: the epipole itself).
+double epipolarAngle(const Eigen::Vector3d& t, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d normal = t.cross(a);
+  const double n = normal.norm();
+  if (n < 1e-9) return angleBetween(a, b);
+  return std::asin(std::min(1.0, std::abs(normal.dot(b)) / n));
+}
+
+// Disjoint sets for grouping the moving points.
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& options)
+    : camera_(camera), options_(options), focal_px_(camera.centreFocalPx()) {
+  if (options_.cell_px < 4 || options_.min_points < 1 || options_.threshold_px <= 0 || options_.group_radius_px <= 0 ||
+      options_.ransac_iterations < 1 || options_.corner_quality <= 0)
+    throw std::invalid_argument("MotionCue: cell_px >= 4, min_points >= 1 and positive thresholds, radius, quality and iterations");
+}
+
+std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
+                                         const std::optional<Eigen::Vector3d>& v_C) {
+  cv::Mat grey;
+  if (image.type() == CV_8UC3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  else if (image.type() == CV_8UC1) grey = image;
+  else throw std::invalid_argument("MotionCue: the image must be CV_8UC1 or CV_8UC3");
+  points_.clear();
+  translating_ = false;
+  // Pyramids are built once per frame and kept for the next one.
+  const cv::Size window(15, 15);
+  const int levels = 2;
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(grey, pyramid, window, levels);
+  if (previous_pyramid_.empty() || previous_pyramid_[0].size() != grey.size()) {
+    tracks_.clear();
+    previous_pyramid_ = std::move(pyramid);
+    topUp(grey);
+    return {};
+  }
+
+  // 1. The previous points tracked into this frame, started where the rotation puts them,
+  //    checked by tracking back.
+  std::vector<cv::Point2f> from, to, back;
+  std::vector<Eigen::Vector3d> from_rays;
+  std::vector<Track> kept;
+  for (const Track& t : tracks_) {
+    Eigen::Vector3d a;
+    Eigen::Vector2d predicted;
+    if (!camera_.unproject(Eigen::Vector2d(t.pixel.x, t.pixel.y), &a)) continue;
+    if (!camera_.project(R_Ccur_Cprev * a, &predicted)) predicted = Eigen::Vector2d(t.pixel.x, t.pixel.y);
+    from.push_back(t.pixel);
+    from_rays.push_back(a);
+    to.emplace_back(static_cast<float>(predicted.x()), static_cast<float>(predicted.y()));
+    kept.push_back(t);
+  }
+  tracks_ = std::move(kept);
+  kept.clear();
+  std::vector<Eigen::Vector3d> previous_rays, rays;
+  if (!from.empty()) {
+    std::vector<uint8_t> ok, ok_back;
+    std::vector<float> error;
+    const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
+    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, from, to, ok, error, window, levels, stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    // Started at the original point, a consistent track needs no pyramid to come back: the
+    // check runs on the full-resolution level alone, at a fraction of the forward cost.
+    back = from;
+    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, to, back, ok_back, error, window, 0,
+                             cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 0.03),
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t i = 0; i < from.size(); ++i) {
+      if (!ok[i] || !ok_back[i] || cv::norm(back[i] - from[i]) > 1.0) continue;
+      if (!camera_.inImage(to[i].x, to[i].y, 1.0)) continue;
+      Eigen::Vector3d b;
+      if (!camera_.unproject(Eigen::Vector2d(to[i].x, to[i].y), &b)) continue;
+      // 2. The camera's rotation removed: where the previous ray points in this camera.
+      previous_rays.push_back((R_Ccur_Cprev * from_rays[i]).normalized());
+      rays.push_back(b.normalized());
+      kept.push_back({to[i], tracks_[i].history});
+    }
+  }
+  tracks_ = std::move(kept);
+  keepOnePerCell(&previous_rays, &rays);
+
+  // 3-4. Residuals against the static scene's model; the votes of the last three frames.
+  const std::vector<double> r = residuals(previous_rays, rays, v_C);
+  std::vector<cv::Point2f> moving;
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    Track& t = tracks_[i];
+    t.history = static_cast<uint8_t>((t.history << 1) | (r[i] > options_.threshold_px ? 1 : 0));
+    const bool moves = std::bitset<3>(t.history & 7u).count() >= 2;
+    points_.push_back({t.pixel, moves, r[i]});
+    if (moves) moving.push_back(t.pixel);
+  }
+  previous_pyramid_ = std::move(pyramid);
+  topUp(grey);
+  return group(moving);
+}
+
+std::vector<double> MotionCue::residuals(const std::vector<Eigen::Vector3d>& previous_rays,
+                                         const std::vector<Eigen::Vector3d>& rays,
+                                         const std::optional<Eigen::Vector3d>& v_C) {
+  const size_t n = rays.size();
+  std::vector<double> rotation_only(n);
+  for (size_t i = 0; i < n; ++i) rotation_only[i] = focal_px_ * angleBetween(previous_rays[i], rays[i]);
+  if (n < 8 || (v_C && v_C->norm() < options_.min_speed)) return rotation_only;
+  const Eigen::Vector3d t = v_C ? Eigen::Vector3d(v_C->normalized()) : fitTranslation(previous_rays, rays);
+
+  // A static point slides along its epipolar line away from the direction of travel (b ~ depth
+  // * a - t, so a x b points along t x a). A point sliding the other way moves: an object
+  // overtaking the camera, whose motion lies along the epipolar line and would otherwise pass as
+  // a far-away static point.
+  std::vector<double> r(n);
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d& a = previous_rays[k];
+    r[k] = focal_px_ * epipolarAngle(t, a, rays[k]);
+    if (a.cross(rays[k]).dot(t.cross(a)) < 0) r[k] = std::max(r[k], rotation_only[k]);
+  }
+  // Which model: the translating one explains more, and when fitted it has two degrees of
+  // freedom that can line up with moving objects if the static scene has no parallax; it is
+  // taken when it explains clearly more points (a near road slides past a slow camera while the
+  // far scene stays put: the median motion can be below a pixel and the translation still matter).
+  const auto inliers = [&](const std::vector<double>& residual) {
+    return std::count_if(residual.begin(), residual.end(), [&](double v) { return v < options_.threshold_px; });
+  };
+  const double gain = std::max(options_.translation_min_gain * static_cast<double>(n), 5.0);
+  translating_ = static_cast<double>(inliers(r) - inliers(rotation_only)) > gain;
+  return translating_ ? r : rotation_only;
+}
+
+Eigen::Vector3d MotionCue::fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,
+                                          const std::vector<Eigen::Vector3d>& rays) {
+  // The translation lies in every static point's epipolar plane (normal a x b), so two points'
+  // normals give it.
+  const size_t n = rays.size();
+  std::vector<Eigen::Vector3d> normals(n);
+  for (size_t i = 0; i < n; ++i) normals[i] = previous_rays[i].cross(rays[i]);
+  const auto nextIndex = [&] {
+    rng_state_ ^= rng_state_ << 13;  // xorshift64
+    rng_state_ ^= rng_state_ >> 7;
+    rng_state_ ^= rng_state_ << 17;
+    return static_cast<size_t>(rng_state_ % n);
+  };
+  // Scored by the truncated squared residual (MSAC): with the small parallax of one frame many
+  // directions keep every static point under the threshold, and the best of them fits tightest.
+  const double threshold_rad = options_.threshold_px / focal_px_;
+  const auto cost = [&](const Eigen::Vector3d& t) {
+    double c = 0;
+    for (size_t k = 0; k < n; ++k) c += std::min(std::pow(epipolarAngle(t, previous_rays[k], rays[k]), 2), threshold_rad * threshold_rad);
+    return c;
+  };
+  Eigen::Vector3d best = Eigen::Vector3d::UnitZ();
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < options_.ransac_iterations; ++it) {
+    const size_t i = nextIndex(), j = nextIndex();
+    if (i == j) continue;
+    Eigen::Vector3d t = normals[i].cross(normals[j]);
+    if (t.norm() < 1e-12) continue;
+    t.normalize();
+    if (const double c = cost(t); c < best_cost) best_cost = c, best = t;
+  }
+  // Refined on its inliers: the direction closest to perpendicular to all their plane normals
+  // (least squares, the smallest eigenvector of the normals' scatter).
+  for (int round = 0; round < 2; ++round) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (size_t k = 0; k < n; ++k)
+      if (epipolarAngle(best, previous_rays[k], rays[k]) < threshold_rad) scatter += normals[k] * normals[k].transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+    const Eigen::Vector3d refined = eigen.eigenvectors().col(0);
+    if (cost(refined) <= cost(best)) best = refined;
+  }
+  // The sign: most points are static and slide away from the direction of travel.
+  double vote = 0;
+  for (size_t k = 0; k < n; ++k) vote += normals[k].dot(best.cross(previous_rays[k]));
+  return vote < 0 ? Eigen::Vector3d(-best) : best;
+}
+
+std::vector<Detection> MotionCue::group(const std::vector<cv::Point2f>& moving) const {
+  const int n = static_cast<int>(moving.size());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double r2 = options_.group_radius_px * options_.group_radius_px;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      const cv::Point2f d = moving[i] - moving[j];
+      if (d.dot(d) <= r2) parent[findRoot(parent, i)] = findRoot(parent, j);
+    }
+  std::vector<std::vector<int>> members(n);
+  for (int i = 0; i < n; ++i) members[findRoot(parent, i)].push_back(i);
+  std::vector<Detection> boxes;
+  for (const std::vector<int>& m : members) {
+    if (static_cast<int>(m.size()) < options_.min_points) continue;
+    double x0 = moving[m[0]].x, x1 = x0, y0 = moving[m[0]].y, y1 = y0;
+    for (int i : m) {
+      x0 = std::min<double>(x0, moving[i].x), x1 = std::max<double>(x1, moving[i].x);
+      y0 = std::min<double>(y0, moving[i].y), y1 = std::max<double>(y1, moving[i].y);
+    }
+    // A point per cell: the object reaches up to half a cell past the outermost ones.
+    const double mx = options_.box_margin * (x1 - x0) + options_.cell_px / 2.0;
+    const double my = options_.box_margin * (y1 - y0) + options_.cell_px / 2.0;
+    x0 = std::max(-0.5, x0 - mx), y0 = std::max(-0.5, y0 - my);
+    x1 = std::min(camera_.width() - 0.5, x1 + mx), y1 = std::min(camera_.height() - 0.5, y1 + my);
+    Detection d;
+    d.box = Box::fromCorners(x0, y0, x1, y1);
+    d.class_id = kMovingClass;
+    d.score = 1.0;
+    boxes.push_back(d);
+  }
+  return boxes;
+}
+
+int MotionCue::cellOf(const cv::Point2f& pixel) const {
+  const int cols = (camera_.width() + options_.cell_px - 1) / options_.cell_px;
+  const int rows = (camera_.height() + options_.cell_px - 1) / options_.cell_px;
+  const int c = std::clamp(static_cast<int>(pixel.x) / options_.cell_px, 0, cols - 1);
+  const int r = std::clamp(static_cast<int>(pixel.y) / options_.cell_px, 0, rows - 1);
+  return r * cols + c;
+}
+
+void MotionCue::keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std::vector<Eigen::Vector3d>* rays) {
+  // Tracks drift together (an object's points crowd as it recedes, the top-up fills the cells the
+  // scene left): the oldest point of a cell stays, it has the longest history.
+  std::vector<uint8_t> taken(cellCount(), 0);
+  size_t kept = 0;
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    uint8_t& cell = taken[static_cast<size_t>(cellOf(tracks_[i].pixel))];
+    if (cell) continue;
+    cell = 1;
+    tracks_[kept] = tracks_[i];
+    (*previous_rays)[kept] = (*previous_rays)[i];
+    (*rays)[kept] = (*rays)[i];
+    ++kept;
+  }
+  tracks_.resize(kept);
+  previous_rays->resize(kept);
+  rays->resize(kept);
+}
+
+size_t MotionCue::cellCount() const {
+  const int cols = (camera_.width() + options_.cell_px - 1) / options_.cell_px;
+  const int rows = (camera_.height() + options_.cell_px - 1) / options_.cell_px;
+  return static_cast<size_t>(cols * rows);
+}
+
+void MotionCue::topUp(const cv::Mat& grey) {
+  const int cell = options_.cell_px;
+  const int cols = (grey.cols + cell - 1) / cell, rows = (grey.rows + cell - 1) / cell;
+  std::vector<uint8_t> taken(cellCount(), 0);
+  for (const Track& t : tracks_) taken[static_cast<size_t>(cellOf(t.pixel))] = 1;
+  cv::Mat strength;
+  cv::cornerMinEigenVal(grey, strength, 3, 3);
+  double strongest = 0;
+  cv::minMaxLoc(strength, nullptr, &strongest);
+  const double floor = std::max(1e-6, options_.corner_quality * strongest);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      if (taken[static_cast<size_t>(r * cols + c)]) continue;
+      const cv::Rect area = cv::Rect(c * cell, r * cell, cell, cell) & cv::Rect(0, 0, grey.cols, grey.rows);
+      double best = 0;
+      cv::Point at;
+      cv::minMaxLoc(strength(area), nullptr, &best, nullptr, &at);
+      if (best < floor) continue;
+      const cv::Point2f pixel(static_cast<float>(area.x + at.x), static_cast<float>(area.y + at.y));
+      tracks_.push_back({pixel, 0});
+      points_.push_back({pixel, false, 0});
+    }
+}
+
+}  // namespace adugs::tracking

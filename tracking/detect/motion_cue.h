@@ -1,0 +1,109 @@
+#pragma once
+// A class-free detector of moving objects: image points whose motion since the previous frame
+// disagrees with the camera's own motion, grouped into boxes that prompt the same SORT and box
+// segmenter as the object detector's boxes (tracking/dynamic_masker.h). Nothing is learnt, so any
+// object that moves is found, of whatever class; an object that stands still is not.
+// Per frame:
+//   1. points: the previous frame's points tracked by pyramidal KLT from where the gyro's rotation
+//      puts them (kept when the backward track returns within 1 px), topped up with the strongest corner (minimum eigenvalue) of every
+//      cell_px grid cell that has no point, so that every textured part of the image, a small
+//      object's included, has points (the strongest corners of the whole image crowd into the
+//      most contrasted texture);
+//   2. the camera's rotation since the previous frame (the gyro's) is removed: each previous ray
+//      is rotated into this camera, so a static point far away stays put;
+//   3. the static scene's model, one of two: rotation only (a static point stays where the
+//      rotation puts it: its residual is its compensated motion, as an angle in pixels on the
+//      optical axis), or a translating camera (static points slide along their epipolar lines:
+//      the translation direction by RANSAC over two-point samples, as the epipolar plane of a
+//      point contains the translation; the residual is the angle to that plane, in pixels; a point
+//      that slides along its line towards the direction of travel, which static points never do,
+//      has its whole compensated motion as residual). The translating model is taken when it
+//      explains translation_min_gain of the points more than the rotation-only one. With the
+//      estimator's velocity the direction is known, not fitted: the fit can line up with a large
+//      moving object when the static scene has no parallax;
+//   4. a point moves when its residual is above threshold_px in at least 2 of its last 3 frames;
+//      moving points closer than group_radius_px form a group; a group of min_points or more is a
+//      box (their bounding box, widened by box_margin on each side), score 1, class kMovingClass.
+// What it cannot see: motion along the point's epipolar line that a static point could have at
+// some depth (an object coming towards a forward-moving camera, or going its way more slowly than
+// it: both look like static points at another depth; telling them apart needs depth, e.g. where
+// the object touches the ground), and objects without trackable texture.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "data/camera_model.h"
+#include "tracking/detect/detector.h"
+
+namespace adugs::tracking {
+
+// The class id of the motion cue's boxes (no detector class; SORT keeps them apart).
+constexpr int kMovingClass = -1;
+
+struct MotionCueOptions {
+  int cell_px = 24;               // one point per grid cell of this side
+  double corner_quality = 0.001;  // of the image's strongest corner: weaker cells get no point
+  double threshold_px = 1.5;      // residual above which a point moves in a frame
+  double translation_min_gain = 0.1;  // of the points (at least 5): see 3. above
+  double min_speed = 0.02;            // m/s: a known velocity below it is no translation
+  int ransac_iterations = 200;
+  double group_radius_px = 40;    // moving points this close belong to one object
+  int min_points = 3;             // moving points that make a box
+  double box_margin = 0.1;        // of the box's width / height, on each side
+};
+
+// One tracked point and whether it moved, for the overlay and the tests.
+struct MotionCuePoint {
+  cv::Point2f pixel;
+  bool moving = false;
+  double residual_px = 0;  // this frame's (0 for a point new in it)
+};
+
+class MotionCue {
+ public:
+  // camera: rays from pixels and the focal length residuals are measured with.
+  explicit MotionCue(const data::CameraModel& camera, const MotionCueOptions& options = {});
+
+  // grey: CV_8UC1 (CV_8UC3 is converted), the camera's image size. R_Ccur_Cprev: the camera's
+  // rotation since the previous frame (a ray of the previous camera -> this one's); the identity
+  // for a camera that did not rotate or has no gyro. v_C: the camera's velocity in its own frame
+  // when known (the estimator's, in m/s): its direction is the translation's, no RANSAC needed;
+  // below min_speed the frame is rotation-only. The first frame gives no boxes.
+  std::vector<Detection> detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
+                                const std::optional<Eigen::Vector3d>& v_C = std::nullopt);
+
+  const std::vector<MotionCuePoint>& points() const { return points_; }
+  // Whether the last frame's static model was the translating one (epipolar) or rotation only.
+  bool translating() const { return translating_; }
+
+ private:
+  struct Track {
+    cv::Point2f pixel;
+    uint8_t history = 0;  // bit k: moved k frames ago (bit 0: this frame)
+  };
+  // Per point of `tracks_` (after tracking into this frame): residual in pixels.
+  std::vector<double> residuals(const std::vector<Eigen::Vector3d>& previous_rays,
+                                const std::vector<Eigen::Vector3d>& rays, const std::optional<Eigen::Vector3d>& v_C);
+  // The translation direction the points agree with best (RANSAC, then least squares).
+  Eigen::Vector3d fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,
+                                 const std::vector<Eigen::Vector3d>& rays);
+  std::vector<Detection> group(const std::vector<cv::Point2f>& moving) const;
+  int cellOf(const cv::Point2f& pixel) const;
+  size_t cellCount() const;
+  // One track per grid cell (the rays of the kept tracks kept beside them).
+  void keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std::vector<Eigen::Vector3d>* rays);
+  void topUp(const cv::Mat& grey);
+
+  data::CameraModel camera_;
+  MotionCueOptions options_;
+  double focal_px_;
+  std::vector<cv::Mat> previous_pyramid_;  // of the previous frame, for KLT
+  std::vector<Track> tracks_;
+  std::vector<MotionCuePoint> points_;
+  bool translating_ = false;
+  uint64_t rng_state_ = 0x9e3779b97f4a7c15ULL;  // RANSAC's samples: reproducible runs
+};
+
+}  // namespace adugs::tracking
