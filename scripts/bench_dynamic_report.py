@@ -15,6 +15,7 @@ import sys
 
 BEGIN, END = "<!-- bench_dynamic:begin -->", "<!-- bench_dynamic:end -->"
 MODE_TITLES = {"none": "no mask", "det": "detector + SORT + GrabCut", "det_sam": "detector + SORT + MobileSAM",
+               "motion": "motion cue + SORT + GrabCut", "det_motion": "detector and motion cue + SORT + GrabCut",
                "gt": "exact masks", "det_fixed_r": "fixed R", "det_no_sort": "no SORT"}
 
 
@@ -129,7 +130,7 @@ def main():
                 runs = [read_run(a.out, "%s_s%s_%s_%s" % (scene, s, level, mode)) for s in seeds]
                 ate[(scene, level, mode)] = [r[0] for r in runs]
                 masks[(scene, level, mode)] = [r[3] for r in runs]
-    table_modes = [m for m in ("none", "det", "det_sam", "gt") if m in modes]
+    table_modes = [m for m in ("none", "det", "det_sam", "motion", "det_motion", "gt") if m in modes]
     lines += ["| scene | level | " + " | ".join(MODE_TITLES[m] for m in table_modes) + " |",
               "|---|---|" + "---|" * len(table_modes)]
     for scene in scenes:
@@ -164,9 +165,9 @@ def main():
                         text += " [" + ", ".join(bad) + "]"
                 parts.append(text)
             lines.append("- %s: %s" % (scene, "; ".join(parts)))
-    mask_modes = [m for m in ("det", "det_sam") if m in modes]
+    mask_modes = [m for m in ("det", "det_sam", "motion", "det_motion") if m in modes]
     if mask_modes:
-        lines += ["", "Masks of the detector chain against the exact masks (`dynamic_mask_vs_exact` of the runs' "
+        lines += ["", "Masks of the detector chain and the motion cue against the exact masks (`dynamic_mask_vs_exact` of the runs' "
                   "summary.yaml): recall of the dynamic pixels / precision of the masked pixels, median over the "
                   "seeds:", "",
                   "| scene | level | " + " | ".join(MODE_TITLES[m] for m in mask_modes) + " |",
