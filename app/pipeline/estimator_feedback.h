@@ -5,9 +5,12 @@
 // stage working on frame k asks for frame k - d, for a fixed d, and waits until the estimator has
 // it: what it gets never depends on the threads' timing, so a playback is reproducible to the byte.
 #include <condition_variable>
+#include <cstdint>
+#include <deque>
 #include <mutex>
 #include <optional>
-#include <vector>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -24,6 +27,8 @@ class EstimatorFeedback {
   void publish(const Eigen::Vector3d& gyro_bias, const std::optional<Eigen::Vector3d>& v_B = std::nullopt) {
     std::lock_guard<std::mutex> lock(mutex_);
     frames_.push_back({gyro_bias, v_B});
+    ++published_count_;
+    if (frames_.size() > kKept) frames_.pop_front();
     published_.notify_all();
   }
 
@@ -35,9 +40,12 @@ class EstimatorFeedback {
       return true;
     }
     std::unique_lock<std::mutex> lock(mutex_);
-    published_.wait(lock, [&] { return closed_ || static_cast<int>(frames_.size()) > index; });
-    if (static_cast<int>(frames_.size()) <= index) return false;
-    *after = frames_[index];
+    published_.wait(lock, [&] { return closed_ || published_count_ > index; });
+    if (published_count_ <= index) return false;
+    const int64_t first_kept = published_count_ - static_cast<int64_t>(frames_.size());
+    if (index < first_kept)
+      throw std::logic_error("EstimatorFeedback: frame " + std::to_string(index) + " asked for after it was dropped");
+    *after = frames_[static_cast<size_t>(index - first_kept)];
     return true;
   }
   // The bias alone.
@@ -57,7 +65,11 @@ class EstimatorFeedback {
  private:
   std::mutex mutex_;
   std::condition_variable published_;
-  std::vector<AfterFrame> frames_;  // 56 bytes a frame: an hour at 30 Hz is 6 MB
+  // The newest frames only: the stages ask for a few frames back, and the channels between them
+  // hold a handful of frames, so the memory stays flat however long the run.
+  static constexpr size_t kKept = 1024;
+  std::deque<AfterFrame> frames_;
+  int64_t published_count_ = 0;
   bool closed_ = false;
 };
 

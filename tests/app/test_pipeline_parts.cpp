@@ -137,6 +137,19 @@ TEST(EstimatorFeedback, CarriesTheVelocityOnceThereIsOne) {
   EXPECT_EQ(after.gyro_bias, Eigen::Vector3d::Zero());
 }
 
+TEST(EstimatorFeedback, KeepsTheNewestFramesOnly) {
+  // A long run's feedback stays bounded: the newest 1024 frames are kept, an older one asked for
+  // is a logic error (the stages ask for 2 or 3 frames back).
+  EstimatorFeedback feedback;
+  for (int k = 0; k < 5000; ++k) feedback.publish(Eigen::Vector3d::Constant(k));
+  Eigen::Vector3d b;
+  ASSERT_TRUE(feedback.waitFor(4997, &b));
+  EXPECT_EQ(b, Eigen::Vector3d::Constant(4997));
+  ASSERT_TRUE(feedback.waitFor(5000 - 1024, &b));
+  EXPECT_EQ(b, Eigen::Vector3d::Constant(5000 - 1024));
+  EXPECT_THROW(feedback.waitFor(100, &b), std::logic_error);
+}
+
 volatile std::sig_atomic_t g_previous_handler_calls = 0;
 void previousHandler(int) { ++g_previous_handler_calls; }
 
