@@ -83,10 +83,7 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "gt_duplicates_in_bag: " << sequence.gt_duplicates_dropped << "\n"
       << "mask: " << maskSourceName(a.mask.masking.source) << "\n"
       << "motion_cue: "
-      << (a.mask.masking.source == MaskSource::kMotion ||
-                  (a.mask.masking.source == MaskSource::kDetector && a.mask.masking.motion_cue)
-              ? "true"
-              : "false")
+      << (usesMotionCue(a.mask.masking) ? "true" : "false")
       << "  # class-free boxes of points moving against the camera's motion (--mask motion, --motion-cue)\n"
       << "threads: " << r.threads << " (acquisition, detection, masking, front-end, "
       << (pipeline.estimator() ? "estimator" : "statistics (vision only)") << (r.threads > 5 ? ", view" : "") << ")\n";

@@ -34,6 +34,11 @@ struct MaskingOptions {
   tracking::MotionCueOptions motion;
 };
 
+// Whether the motion cue prompts the masks: --mask motion, or --mask detector --motion-cue.
+inline bool usesMotionCue(const MaskingOptions& o) {
+  return o.source == MaskSource::kMotion || (o.source == MaskSource::kDetector && o.motion_cue);
+}
+
 class MaskingStage {
  public:
   // Loads the segmenter (errors name the files). T_B_C: its rotation turns gyro rotations into

@@ -18,21 +18,35 @@
 namespace adugs::calib {
 namespace {
 
+// The cost's residuals and its Jacobian of every block (row-major, residuals x block size).
+struct Evaluated {
+  std::vector<double> r;
+  std::vector<std::vector<double>> jac;
+};
+Evaluated evaluate(const ceres::CostFunction& cost, std::vector<std::vector<double>>& params) {
+  const int nr = cost.num_residuals();
+  const auto& sizes = cost.parameter_block_sizes();
+  std::vector<double*> ptrs;
+  for (auto& p : params) ptrs.push_back(p.data());
+  Evaluated e{std::vector<double>(nr), std::vector<std::vector<double>>(sizes.size())};
+  std::vector<double*> jptrs;
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    e.jac[b].resize(nr * sizes[b]);
+    jptrs.push_back(e.jac[b].data());
+  }
+  EXPECT_TRUE(cost.Evaluate(ptrs.data(), e.r.data(), jptrs.data()));
+  return e;
+}
+
 // Jacobian of every block by central differences vs the cost function's own.
 void expectJacobiansMatchNumeric(const ceres::CostFunction& cost,
                                  std::vector<std::vector<double>> params, double tol) {
   const int nr = cost.num_residuals();
   const auto& sizes = cost.parameter_block_sizes();
+  const std::vector<std::vector<double>> jac = evaluate(cost, params).jac;
   std::vector<double*> ptrs;
   for (auto& p : params) ptrs.push_back(p.data());
-  std::vector<std::vector<double>> jac(sizes.size());
-  std::vector<double*> jptrs;
-  for (size_t b = 0; b < sizes.size(); ++b) {
-    jac[b].resize(nr * sizes[b]);
-    jptrs.push_back(jac[b].data());
-  }
-  std::vector<double> r(nr), rp(nr), rm(nr);
-  ASSERT_TRUE(cost.Evaluate(ptrs.data(), r.data(), jptrs.data()));
+  std::vector<double> rp(nr), rm(nr);
   const double h = 1e-6;
   for (size_t b = 0; b < sizes.size(); ++b)
     for (int k = 0; k < sizes[b]; ++k) {
@@ -261,16 +275,9 @@ void expectSameAsSecondFormulation(const ceres::CostFunction& cost, Blocks param
                                    const std::set<size_t>& quaternion_blocks) {
   const int nr = cost.num_residuals();
   const auto& sizes = cost.parameter_block_sizes();
-  std::vector<double*> ptrs;
-  for (auto& p : params) ptrs.push_back(p.data());
-  std::vector<std::vector<double>> jac(sizes.size());
-  std::vector<double*> jptrs;
-  for (size_t b = 0; b < sizes.size(); ++b) {
-    jac[b].resize(nr * sizes[b]);
-    jptrs.push_back(jac[b].data());
-  }
-  Eigen::VectorXd r(nr);
-  ASSERT_TRUE(cost.Evaluate(ptrs.data(), r.data(), jptrs.data()));
+  const Evaluated e = evaluate(cost, params);
+  const Eigen::Map<const Eigen::VectorXd> r(e.r.data(), nr);
+  const std::vector<std::vector<double>>& jac = e.jac;
   const Eigen::VectorXd r2 = formulation(params);
   ASSERT_EQ(r2.size(), nr);
   for (int i = 0; i < nr; ++i) EXPECT_NEAR(r(i), r2(i), 1e-6 * (1 + std::abs(r2(i)))) << "residual " << i;

@@ -159,6 +159,7 @@ TEST(MotionCue, KnownVelocityGivesTheDirectionOfTravel) {
 TEST(MotionCue, BadInputsAreRejected) {
   MotionCue cue(kCamera);
   EXPECT_THROW(cue.detect(cv::Mat(480, 752, CV_32FC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);
+  EXPECT_THROW(cue.detect(cv::Mat(600, 800, CV_8UC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);
   MotionCueOptions o;
   o.min_points = 0;
   EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);

@@ -37,7 +37,11 @@ int findRoot(std::vector<int>& parent, int i) {
 }  // namespace
 
 MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& options)
-    : camera_(camera), options_(options), focal_px_(camera.centreFocalPx()) {
+    : camera_(camera),
+      options_(options),
+      focal_px_(camera.centreFocalPx()),
+      grid_cols_((camera.width() + options.cell_px - 1) / std::max(1, options.cell_px)),
+      grid_rows_((camera.height() + options.cell_px - 1) / std::max(1, options.cell_px)) {
   if (options_.cell_px < 4 || options_.min_points < 1 || options_.threshold_px <= 0 || options_.group_radius_px <= 0 ||
       options_.ransac_iterations < 1 || options_.corner_quality <= 0)
     throw std::invalid_argument("MotionCue: cell_px >= 4, min_points >= 1 and positive thresholds, radius, quality and iterations");
@@ -49,6 +53,10 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   if (image.type() == CV_8UC3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   else if (image.type() == CV_8UC1) grey = image;
   else throw std::invalid_argument("MotionCue: the image must be CV_8UC1 or CV_8UC3");
+  if (grey.cols != camera_.width() || grey.rows != camera_.height())
+    throw std::invalid_argument("MotionCue: a " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
+                                " image for a " + std::to_string(camera_.width()) + "x" +
+                                std::to_string(camera_.height()) + " camera");
   points_.clear();
   translating_ = false;
   // Pyramids are built once per frame and kept for the next one.
@@ -235,17 +243,15 @@ std::vector<Detection> MotionCue::group(const std::vector<cv::Point2f>& moving) 
 }
 
 int MotionCue::cellOf(const cv::Point2f& pixel) const {
-  const int cols = (camera_.width() + options_.cell_px - 1) / options_.cell_px;
-  const int rows = (camera_.height() + options_.cell_px - 1) / options_.cell_px;
-  const int c = std::clamp(static_cast<int>(pixel.x) / options_.cell_px, 0, cols - 1);
-  const int r = std::clamp(static_cast<int>(pixel.y) / options_.cell_px, 0, rows - 1);
-  return r * cols + c;
+  const int c = std::clamp(static_cast<int>(pixel.x) / options_.cell_px, 0, grid_cols_ - 1);
+  const int r = std::clamp(static_cast<int>(pixel.y) / options_.cell_px, 0, grid_rows_ - 1);
+  return r * grid_cols_ + c;
 }
 
 void MotionCue::keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std::vector<Eigen::Vector3d>* rays) {
   // Tracks drift together (an object's points crowd as it recedes, the top-up fills the cells the
   // scene left): the oldest point of a cell stays, it has the longest history.
-  std::vector<uint8_t> taken(cellCount(), 0);
+  std::vector<uint8_t> taken(static_cast<size_t>(grid_cols_ * grid_rows_), 0);
   size_t kept = 0;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     uint8_t& cell = taken[static_cast<size_t>(cellOf(tracks_[i].pixel))];
@@ -261,25 +267,18 @@ void MotionCue::keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std:
   rays->resize(kept);
 }
 
-size_t MotionCue::cellCount() const {
-  const int cols = (camera_.width() + options_.cell_px - 1) / options_.cell_px;
-  const int rows = (camera_.height() + options_.cell_px - 1) / options_.cell_px;
-  return static_cast<size_t>(cols * rows);
-}
-
 void MotionCue::topUp(const cv::Mat& grey) {
   const int cell = options_.cell_px;
-  const int cols = (grey.cols + cell - 1) / cell, rows = (grey.rows + cell - 1) / cell;
-  std::vector<uint8_t> taken(cellCount(), 0);
+  std::vector<uint8_t> taken(static_cast<size_t>(grid_cols_ * grid_rows_), 0);
   for (const Track& t : tracks_) taken[static_cast<size_t>(cellOf(t.pixel))] = 1;
   cv::Mat strength;
   cv::cornerMinEigenVal(grey, strength, 3, 3);
   double strongest = 0;
   cv::minMaxLoc(strength, nullptr, &strongest);
   const double floor = std::max(1e-6, options_.corner_quality * strongest);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      if (taken[static_cast<size_t>(r * cols + c)]) continue;
+  for (int r = 0; r < grid_rows_; ++r)
+    for (int c = 0; c < grid_cols_; ++c) {
+      if (taken[static_cast<size_t>(r * grid_cols_ + c)]) continue;
       const cv::Rect area = cv::Rect(c * cell, r * cell, cell, cell) & cv::Rect(0, 0, grey.cols, grey.rows);
       double best = 0;
       cv::Point at;

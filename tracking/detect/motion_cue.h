@@ -66,7 +66,7 @@ class MotionCue {
   // camera: rays from pixels and the focal length residuals are measured with.
   explicit MotionCue(const data::CameraModel& camera, const MotionCueOptions& options = {});
 
-  // grey: CV_8UC1 (CV_8UC3 is converted), the camera's image size. R_Ccur_Cprev: the camera's
+  // grey: CV_8UC1 (CV_8UC3 is converted), the camera's image size (else std::invalid_argument). R_Ccur_Cprev: the camera's
   // rotation since the previous frame (a ray of the previous camera -> this one's); the identity
   // for a camera that did not rotate or has no gyro. v_C: the camera's velocity in its own frame
   // when known (the estimator's, in m/s): its direction is the translation's, no RANSAC needed;
@@ -91,7 +91,6 @@ class MotionCue {
                                  const std::vector<Eigen::Vector3d>& rays);
   std::vector<Detection> group(const std::vector<cv::Point2f>& moving) const;
   int cellOf(const cv::Point2f& pixel) const;
-  size_t cellCount() const;
   // One track per grid cell (the rays of the kept tracks kept beside them).
   void keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std::vector<Eigen::Vector3d>* rays);
   void topUp(const cv::Mat& grey);
@@ -99,6 +98,7 @@ class MotionCue {
   data::CameraModel camera_;
   MotionCueOptions options_;
   double focal_px_;
+  int grid_cols_, grid_rows_;  // cells of cell_px over the camera's image
   std::vector<cv::Mat> previous_pyramid_;  // of the previous frame, for KLT
   std::vector<Track> tracks_;
   std::vector<MotionCuePoint> points_;
