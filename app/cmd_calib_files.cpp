@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "calib/lens_refit.h"
 #include "data/formats/atomic_file.h"
 #include "data/formats/calibration_files.h"
 #include "data/formats/calibration_writers.h"
@@ -20,6 +21,8 @@ struct CalibFilesArgs {
   double imu_rate_hz = 0;
   std::string json_out;  // show
   std::string to, out;   // convert
+  std::string model;     // convert: refit every camera to this model first
+  double max_refit_rms_px = 0.5;
 };
 
 data::RigCalibration readRig(const CalibFilesArgs& a) {
@@ -91,8 +94,28 @@ void runShow(const CalibFilesArgs& a) {
   }
 }
 
+// Every camera's lens in the model a.model: what the user asked the other tool to get.
+void refitCameras(const CalibFilesArgs& a, data::RigCalibration& rig) {
+  calib::LensModel model;
+  if (!calib::parseLensModel(a.model, model)) throw data::InputError("--model", 0, "model", "unknown camera model");
+  for (size_t i = 0; i < rig.cameras.size(); ++i) {
+    data::CameraCalibration& camera = rig.cameras[i].camera;
+    const std::string from = calib::lensModelName(camera);
+    const calib::LensRefit fit = calib::refitLens(camera, model);
+    std::cout << "cam" << i << ": " << from << " -> " << a.model << ": RMS " << std::setprecision(3) << fit.rms_px
+              << " px, max " << fit.max_px << " px over " << fit.pixels << " grid pixels\n" << std::setprecision(9);
+    if (!(fit.rms_px <= a.max_refit_rms_px))
+      throw data::InputError(rig.cameras[i].source, 0, "cam" + std::to_string(i) + ".camera_model",
+                             "the " + a.model + " model cannot hold this " + from + " lens: its best fit is off by " +
+                                 std::to_string(fit.rms_px) + " px RMS (--max-refit-rms " +
+                                 std::to_string(a.max_refit_rms_px) + ")");
+    camera = fit.camera;
+  }
+}
+
 void runConvert(const CalibFilesArgs& a) {
-  const data::RigCalibration rig = readRig(a);
+  data::RigCalibration rig = readRig(a);
+  if (!a.model.empty()) refitCameras(a, rig);
   const data::CalibrationFiles files = data::formatCalibration(rig, a.to);
   std::error_code ec;
   fs::create_directories(a.out, ec);
@@ -131,6 +154,13 @@ void registerCalibFileCommands(CLI::App* calib) {
   convert->add_option("--out", c->out, "output folder")->required();
   convert->add_option("--imu-rate", c->imu_rate_hz, "IMU rate [Hz], for VINS' per-sample noise figures")
       ->check(CLI::Range(1.0, 1e5));
+  convert->add_option("--model", c->model,
+                       "refit every camera's lens to this model first (the same lens for a tool that lacks its "
+                       "model, e.g. Basalt and radtan)")
+      ->check(CLI::IsMember(calib::lensModelNames()));
+  convert->add_option("--max-refit-rms", c->max_refit_rms_px,
+                      "--model: refuse a refit whose RMS pixel error is larger [px]")
+      ->check(CLI::PositiveNumber);
   convert->callback([c] { runConvert(*c); });
 }
 

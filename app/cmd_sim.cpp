@@ -80,9 +80,9 @@ void registerSimCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--exposure-ms", o.exposure_ms, "motion blur: exposure time [ms]")->capture_default_str();
   cmd->add_option("--camera", o.camera_path,
-                  "synthetic: render through this cam0/sensor.yaml's lens (resolution, intrinsics, "
-                  "projection pinhole|omni|ds|eucm with projection_params, distortion_model "
-                  "radial-tangential|equidistant|none); default: EuRoC's cam0");
+                  "synthetic: render through this calibration's (first) camera: a cam0/sensor.yaml "
+                  "(projection pinhole|omni|ds|eucm, distortion_model radial-tangential|equidistant|none) "
+                  "or any file `adugs calib show` reads (Kalibr, OpenVINS, VINS, Basalt); default: EuRoC's cam0");
   cmd->add_option("--trajectory", o.trajectory_path,
                   "hybrid: EuRoC ground-truth CSV to follow (body = IMU frame)");
   cmd->add_option("--imu", o.imu_path, "hybrid: real EuRoC imu0/data.csv to keep");

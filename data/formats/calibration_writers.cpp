@@ -222,7 +222,7 @@ std::string basaltIntrinsics(const CameraCalibration& c, size_t i) {
   } else {
     refuse("basalt", "cam" + std::to_string(i) + ".camera_model",
            "Basalt has no " + toString(c.projection) + " camera with " + toString(c.distortion_model) +
-               " distortion (pinhole without distortion, kb4, ds, eucm)");
+               " distortion (pinhole without distortion, kb4, ds, eucm): --model ds, eucm or equidistant refits the lens");
   }
   return "{\"camera_type\": \"" + type + "\", \"intrinsics\": {" + head + rest + "}}";
 }

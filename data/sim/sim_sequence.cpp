@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "data/formats/calibration_files.h"
 #include "data/formats/imu_csv.h"
 #include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
@@ -45,8 +46,12 @@ Prepared prepareSynthetic(const SimSequenceOptions& o) {
   const int64_t end = o.start_ns + secToNs(o.duration_s);
   p.trajectory = std::make_unique<SineTrajectory>(makeSceneTrajectory(o.scene, o.seed, o.start_ns, end, o.motion));
   p.camera = o.camera;
-  if (!o.camera_path.empty())
-    p.camera = simCameraFromCalibration(readEurocCameraYaml(o.camera_path), o.camera_path);
+  if (!o.camera_path.empty()) {
+    // Any calibration file the product reads (EuRoC, Kalibr, OpenVINS, VINS, Basalt): its cam0's lens.
+    const RigCalibration rig = readCalibrationFiles({o.camera_path});
+    if (rig.cameras.empty()) throw InputError(o.camera_path, 0, "cameras", "the file has no camera");
+    p.camera = simCameraFromCalibration(rig.cameras[0].camera, rig.cameras[0].source);
+  }
   p.T_B_C = o.T_B_C;
   p.camera_rate_hz = o.camera_rate_hz;
   SimImuOptions imu = o.imu;

@@ -100,6 +100,22 @@ TEST(CmdCalibFiles, ConvertToEveryToolReadsBackTheSame) {
   std::string out;
   EXPECT_EQ(runAdugs("calib convert " + in + " --to basalt --out " + (dir / "basalt").string(), &out), 2) << out;
   EXPECT_NE(out.find("Basalt has no pinhole camera with radial-tangential distortion"), std::string::npos) << out;
+  EXPECT_NE(out.find("--model ds"), std::string::npos) << out;
+  // The same lens refit as a double sphere: written, and read back as that DS.
+  ASSERT_EQ(runAdugs("calib convert " + in + " --to basalt --model ds --max-refit-rms 2 --out " + (dir / "basalt").string(),
+                     &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("cam0: radtan -> ds: RMS"), std::string::npos) << out;
+  const data::RigCalibration ds = data::readCalibrationFiles({(dir / "basalt" / "calib.json").string()});
+  EXPECT_EQ(ds.cameras[0].camera.projection, data::ProjectionModel::kDoubleSphere);
+  EXPECT_NEAR(ds.cameras[0].camera.fx / (1 + ds.cameras[0].camera.projection_params[0]), 458.654, 0.02 * 458.654);  // on-axis focal
+  // EuRoC's radtan corners are about 1 px RMS from any DS: the default limit (0.5 px) refuses it, naming the field.
+  EXPECT_EQ(runAdugs("calib convert " + in + " --to basalt --model ds --out " + (dir / "basalt2").string(), &out), 2)
+      << out;
+  EXPECT_NE(out.find("cam0.camera_model"), std::string::npos) << out;
+  EXPECT_NE(out.find("cannot hold this radtan lens"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "basalt2" / "calib.json"));
   for (const std::string tool : {"kalibr", "openvins", "vins"}) {
     SCOPED_TRACE(tool);
     const fs::path folder = dir / tool;

@@ -220,6 +220,42 @@ TEST(SimSequence, RendersThroughAGivenDoubleSphereCamera) {
   EXPECT_NE(readAll(dir / "seq/mav0/sim.yaml").find("camera: "), std::string::npos);
 }
 
+// --camera takes any calibration file the product reads: a Kalibr camchain with a DS camera
+// renders the same images as the same lens in a sensor.yaml.
+TEST(SimSequence, RendersThroughTheFirstCameraOfAKalibrCamchain) {
+  test::TempDir dir("adugs_sim_kalibr_ds");
+  test::writeText(dir / "camchain.yaml",
+                  "cam0:\n  camera_model: ds\n  intrinsics: [-0.2441, 0.5662, 174.85, 174.35, 182.9, 124.5]\n"
+                  "  distortion_model: none\n  distortion_coeffs: []\n  resolution: [376, 240]\n"
+                  "  rostopic: /cam0/image_raw\n");
+  CameraCalibration ds;
+  ds.width = 376, ds.height = 240;
+  ds.fx = 174.85, ds.fy = 174.35, ds.cx = 182.9, ds.cy = 124.5;
+  ds.projection = ProjectionModel::kDoubleSphere;
+  ds.projection_params = {-0.2441, 0.5662};
+  ds.distortion_model = DistortionModel::kNone;
+  ds.distortion = {0, 0, 0, 0};
+  ds.rate_hz = 20;
+  writeEurocCameraYaml((dir / "ds.yaml").string(), ds);
+  SimSequenceOptions o = smallOptions();
+  o.duration_s = 0.2;
+  o.camera_path = (dir / "camchain.yaml").string();
+  generateSimSequence(o, (dir / "kalibr").string());
+  o.camera_path = (dir / "ds.yaml").string();
+  generateSimSequence(o, (dir / "euroc").string());
+  EurocReader a((dir / "kalibr").string()), b((dir / "euroc").string());
+  EXPECT_EQ(a.camera().projection, ProjectionModel::kDoubleSphere);
+  EXPECT_EQ(a.camera().projection_params, ds.projection_params);
+  Measurement ma, mb;
+  int frames = 0;
+  while (a.next(ma) && b.next(mb)) {
+    if (!ma.isFrame()) continue;
+    ++frames;
+    EXPECT_EQ(cv::norm(ma.frame.image, mb.frame.image, cv::NORM_INF), 0) << "frame " << frames;
+  }
+  EXPECT_GT(frames, 2);
+}
+
 // A given imu0/sensor.yaml sets the noise the synthetic IMU is drawn with, and the written
 // sensor.yaml carries it on to the estimator.
 TEST(SimSequence, SimulatesTheGivenImuNoiseFigures) {
