@@ -22,7 +22,8 @@ MODULE_FLOOR = {"data": 0, "tracking": 1, "vio": 1, "calib": 1, "app": 2}
 ORDER = {
     "data": (["formats", "device", "sim", "sources"],
              {"types.h", "input_error.h", "calibration.h", "camera_model.h", "builtin_config.h", "elapsed_time.h"}),
-    "tracking": (["detect", "sort", "segment", "eval"], {"box.h", "torchscript_module.h"}),
+    "tracking": (["detect", "sort", "segment", "eval"],
+                 {"box.h", "torchscript_module.h", "torch_plugin.h", "torch_plugin_loader.h"}),
     "vio": (["imu", "frontend", "init", "estimator", "eval"], set()),
     "calib": (["target", "intrinsics", "imu_noise", "camera_imu"],
               {"calibration_verdict.h", "pinhole_camera.h", "kalibr_yaml.h", "solver_outcome.h",

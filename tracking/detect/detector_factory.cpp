@@ -7,9 +7,7 @@
 #include "tracking/detect/onnx_signature.h"
 #include "tracking/detect/ultralytics_onnx_detector.h"
 #include "tracking/detect/yolox_detector.h"
-#ifdef ADUGS_HAVE_TORCH
-#include "tracking/detect/torchscript_detector.h"
-#endif
+#include "tracking/torch_plugin_loader.h"
 
 namespace adugs::tracking {
 namespace {
@@ -23,13 +21,7 @@ bool isUltralyticsLayout(const OnnxSignature& sig) {
 
 }  // namespace
 
-bool haveTorchBackends() {
-#ifdef ADUGS_HAVE_TORCH
-  return true;
-#else
-  return false;
-#endif
-}
+bool haveTorchBackends() { return !torchModulePath().empty(); }
 
 std::unique_ptr<Detector> makeDetector(const std::string& model_path, const std::string& config_path) {
   namespace fs = std::filesystem;
@@ -43,15 +35,7 @@ std::unique_ptr<Detector> makeDetector(const std::string& model_path, const std:
     const std::string cfg = config_path.empty() ? fs::path(model_path).replace_extension(".cfg").string() : config_path;
     return std::make_unique<DarknetDetector>(cfg, model_path);
   }
-  if (ext == ".torchscript") {
-#ifdef ADUGS_HAVE_TORCH
-    return std::make_unique<TorchScriptDetector>(model_path);
-#else
-    throw data::InputError(model_path, 0, "detector_model",
-                           "this adugs was built without libtorch, which TorchScript models need: install "
-                           "Debian's libtorch-dev (scripts/setup.sh does) and rebuild");
-#endif
-  }
+  if (ext == ".torchscript") return makeTorchScriptDetector(model_path);  // libtorch, loaded now
   if (ext == ".pt")
     throw data::InputError(model_path, 0, "detector_model",
                            "a .pt file is an ultralytics training checkpoint (Python pickle), not a "

@@ -14,7 +14,8 @@ namespace adugs::tracking {
 
 std::unique_ptr<Detector> makeDetector(const std::string& model_path, const std::string& config_path = "");
 
-// Whether this build has the libtorch backends (TorchScript detector, MobileSAM).
+// Whether this build has the libtorch backends (TorchScript detector, MobileSAM): their module
+// (tracking/torch_plugin_loader) is there to be loaded.
 bool haveTorchBackends();
 
 }  // namespace adugs::tracking

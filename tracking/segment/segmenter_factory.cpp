@@ -3,9 +3,7 @@
 #include <stdexcept>
 
 #include "tracking/segment/grabcut_segmenter.h"
-#ifdef ADUGS_HAVE_TORCH
-#include "tracking/segment/mobilesam_segmenter.h"
-#endif
+#include "tracking/torch_plugin_loader.h"
 
 namespace adugs::tracking {
 
@@ -18,13 +16,7 @@ std::unique_ptr<BoxSegmenter> makeBoxSegmenter(const std::string& kind, const st
       throw std::invalid_argument(
           "segmenter 'mobilesam' needs both TorchScript files: --sam-encoder mobilesam_encoder.pt "
           "--sam-decoder mobilesam_decoder.pt (written by scripts/export_mobilesam.py)");
-#ifdef ADUGS_HAVE_TORCH
-    return std::make_unique<MobileSamSegmenter>(encoder, decoder);
-#else
-    throw std::invalid_argument(
-        "segmenter 'mobilesam' needs libtorch, and this adugs was built without it: install Debian's "
-        "libtorch-dev (scripts/setup.sh does) and rebuild");
-#endif
+    return makeMobileSamSegmenter(encoder, decoder);  // libtorch, loaded now
   }
   throw std::invalid_argument("unknown segmenter '" + kind +
                               "' (expected grabcut, box or mobilesam)");
