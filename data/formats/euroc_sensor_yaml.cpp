@@ -30,7 +30,11 @@ Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& 
 void readPinholeIntrinsics(YamlOptionsReader& r, CameraCalibration* cam) {
   std::string model;
   r.required("camera_model", model);
-  r.check(model == "pinhole", "camera_model", "only 'pinhole' is supported, found '" + model + "'");
+  // adugs writes a wide-angle lens as camera_model: omni | ds | eucm, so that another tool's
+  // EuRoC reader refuses it instead of taking it for a pinhole (the projection parameters are
+  // read with the rest of the sensor.yaml).
+  r.check(parseProjectionModel(model, cam->projection), "camera_model",
+          "expected 'pinhole', 'omni', 'ds' or 'eucm', found '" + model + "'");
   std::vector<double> k;
   r.required("intrinsics", k);
   r.check(k.size() == 4, "intrinsics", "expected [fu, fv, cu, cv], found " + std::to_string(k.size()) + " numbers");
@@ -114,17 +118,22 @@ CameraCalibration parseCamera(YamlOptionsReader r) {
 
   readPinholeIntrinsics(r, &cam);
 
-  // adugs' own keys for a wide-angle projection (absent: pinhole, as in every EuRoC file).
+  // A wide-angle projection: named by camera_model (what adugs writes), or, as adugs wrote it
+  // before, camera_model: pinhole with a `projection:` key. Absent: pinhole, as in every EuRoC file.
   std::string projection;
   if (r.optional("projection", projection)) {
-    r.check(parseProjectionModel(projection, cam.projection), "projection",
+    ProjectionModel named = ProjectionModel::kPinhole;
+    r.check(parseProjectionModel(projection, named), "projection",
             "expected 'pinhole', 'omni', 'ds' or 'eucm', found '" + projection + "'");
-    const int n = projectionParameterCount(cam.projection);
-    if (n > 0) r.required("projection_params", cam.projection_params);
-    r.check(static_cast<int>(cam.projection_params.size()) == n, "projection_params",
-            "projection " + projection + " takes " + std::to_string(n) + " parameters, found " +
-                std::to_string(cam.projection_params.size()));
+    r.check(cam.projection == ProjectionModel::kPinhole || cam.projection == named, "projection",
+            "'" + projection + "' disagrees with camera_model '" + toString(cam.projection) + "'");
+    cam.projection = named;
   }
+  const int n = projectionParameterCount(cam.projection);
+  if (n > 0) r.required("projection_params", cam.projection_params);
+  r.check(static_cast<int>(cam.projection_params.size()) == n, "projection_params",
+          "camera model " + toString(cam.projection) + " takes " + std::to_string(n) + " parameters, found " +
+              std::to_string(cam.projection_params.size()));
 
   std::string dist;
   r.required("distortion_model", dist);
@@ -193,12 +202,11 @@ std::string formatEurocCameraYaml(const CameraCalibration& c, const std::string&
   s += "\n# Camera specific definitions.\n";
   s += "rate_hz: " + num(c.rate_hz) + "\n";
   s += "resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
-  s += "camera_model: pinhole\n";
+  // A wide-angle lens names its model here (a pinhole-only EuRoC reader then refuses the file
+  // rather than misreading it); pinhole files stay plain EuRoC.
+  s += "camera_model: " + toString(c.projection) + "\n";
   s += "intrinsics: " + list({c.fx, c.fy, c.cx, c.cy}) + " #fu, fv, cu, cv\n";
-  if (c.projection != ProjectionModel::kPinhole) {  // pinhole files stay plain EuRoC
-    s += "projection: " + toString(c.projection) + "\n";
-    s += "projection_params: " + list(c.projection_params) + "\n";
-  }
+  if (c.projection != ProjectionModel::kPinhole) s += "projection_params: " + list(c.projection_params) + "\n";
   s += "distortion_model: " + toString(c.distortion_model) + "\n";
   s += "distortion_coefficients: " + list(c.distortion) + "\n";
   return s;

@@ -32,7 +32,8 @@ class YamlOptionsReader;
 Eigen::Isometry3d rigidTransform(const YamlOptionsReader& r, const std::string& key, const Eigen::Matrix4d& m,
                                  double tolerance = kRigidTolerance);
 
-// camera_model (pinhole only) and intrinsics [fu, fv, cu, cv] (EuRoC and Kalibr spell them alike).
+// camera_model (pinhole, or omni | ds | eucm whose projection_params the caller reads) and
+// intrinsics [fu, fv, cu, cv] (EuRoC and Kalibr spell them alike).
 void readPinholeIntrinsics(YamlOptionsReader& r, CameraCalibration* cam);
 
 // Read from a file; `source` names the text in error messages for the *String variants.

@@ -476,8 +476,13 @@ TEST(CameraProjections, EurocSensorYamlCarriesTheProjection) {
   c.distortion = {0, 0, 0, 0};
   c.rate_hz = 20;
   const std::string text = formatEurocCameraYaml(c);
-  EXPECT_NE(text.find("projection: ds\nprojection_params: [-0.2441, 0.5662]\n"), std::string::npos)
+  // The model is named by camera_model, so a pinhole-only EuRoC reader refuses the file rather
+  // than taking the lens for a pinhole.
+  EXPECT_NE(text.find("camera_model: ds\nintrinsics: [349.7, 348.7, 365.8, 249] #fu, fv, cu, cv\n"
+                      "projection_params: [-0.2441, 0.5662]\n"),
+            std::string::npos)
       << text;
+  EXPECT_EQ(text.find("camera_model: pinhole"), std::string::npos) << text;
   const CameraCalibration back = parseEurocCameraYaml(text, "sensor.yaml");
   EXPECT_EQ(back.projection, ProjectionModel::kDoubleSphere);
   EXPECT_EQ(back.projection_params, c.projection_params);
@@ -497,8 +502,24 @@ TEST(CameraProjections, EurocSensorYamlCarriesTheProjection) {
     EXPECT_NE(std::string(e.what()).find("projection_params"), std::string::npos) << e.what();
   }
   bad = text;
-  bad.replace(bad.find("projection: ds"), 14, "projection: fov");
+  bad.replace(bad.find("camera_model: ds"), 16, "camera_model: fov");
   EXPECT_ANY_THROW(parseEurocCameraYaml(bad, "sensor.yaml"));
+
+  // The form adugs wrote before (camera_model: pinhole + projection:) still reads; a projection
+  // that disagrees with camera_model is an error naming the key.
+  std::string legacy = text;
+  legacy.replace(legacy.find("camera_model: ds"), 16, "camera_model: pinhole\nprojection: ds");
+  const CameraCalibration old = parseEurocCameraYaml(legacy, "sensor.yaml");
+  EXPECT_EQ(old.projection, ProjectionModel::kDoubleSphere);
+  EXPECT_EQ(old.projection_params, (std::vector<double>{-0.2441, 0.5662}));
+  bad = text;
+  bad.replace(bad.find("camera_model: ds"), 16, "camera_model: eucm\nprojection: ds");
+  try {
+    parseEurocCameraYaml(bad, "sensor.yaml");
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("disagrees with camera_model 'eucm'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CameraProjections, SimCameraCarriesTheProjection) {

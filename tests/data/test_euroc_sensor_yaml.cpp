@@ -200,8 +200,8 @@ TEST(EurocSensorYaml, BadValuesAndUnknownKeysAreRejected) {
   expectCameraError(replaced(kCameraYaml, "458.654,", "-458.654,"), 14, "intrinsics", "must be positive");
   expectCameraError(replaced(kCameraYaml, "[752, 480]", "[0, 480]"), 12, "resolution", "must be positive");
   expectCameraError(replaced(kCameraYaml, "rate_hz: 20", "rate_hz: 0"), 11, "rate_hz", "must be positive");
-  expectCameraError(replaced(kCameraYaml, "camera_model: pinhole", "camera_model: omni"), 13, "camera_model",
-                    "only 'pinhole'");
+  expectCameraError(replaced(kCameraYaml, "camera_model: pinhole", "camera_model: kb8"), 13, "camera_model",
+                    "expected 'pinhole', 'omni', 'ds' or 'eucm', found 'kb8'");
   expectCameraError(replaced(kCameraYaml, "radial-tangential", "fov"), 15, "distortion_model", "found 'fov'");
   expectCameraError(replaced(kCameraYaml, "sensor_type: camera", "sensor_type: imu"), 2, "sensor_type",
                     "expected 'camera'");
