@@ -4,7 +4,7 @@
 
 namespace adugs::calib {
 
-std::string formatCamchainYaml(const PinholeCamera& c, const std::string& name,
+std::string formatCamchainYaml(const CalibCamera& c, const std::string& name,
                                const std::string& rostopic) {
   auto list = [&](int from, int to) {
     std::string s = "[";

@@ -2,7 +2,7 @@
 // Kalibr output files: camchain.yaml (one camera) and imu.yaml (noise figures).
 #include <string>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
@@ -13,7 +13,7 @@ namespace adugs::calib {
 //   distortion_coeffs: [..4..]
 //   resolution: [w, h]
 //   ...
-std::string formatCamchainYaml(const PinholeCamera& camera, const std::string& camera_name = "cam0",
+std::string formatCamchainYaml(const CalibCamera& camera, const std::string& camera_name = "cam0",
                                const std::string& rostopic = "/cam0/image_raw");
 
 struct ImuNoiseFigures {

@@ -25,7 +25,7 @@ ORDER = {
     "tracking": (["detect", "sort", "segment", "eval"], {"box.h", "torchscript_module.h"}),
     "vio": (["imu", "frontend", "init", "estimator", "eval"], set()),
     "calib": (["target", "intrinsics", "imu_noise", "camera_imu"],
-              {"calibration_verdict.h", "pinhole_camera.h", "kalibr_yaml.h", "solver_outcome.h",
+              {"calibration_verdict.h", "calib_camera.h", "kalibr_yaml.h", "solver_outcome.h",
                "text_format.h"}),
     "app": (["pipeline"], set()),
 }

@@ -144,7 +144,7 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
   if (static_cast<int>(views.size()) < std::max(1, options.min_views))
     tooFew("too few views with a valid initial pose");
 
-  PinholeCamera cam;
+  CalibCamera cam;
   cam.width = width;
   cam.height = height;
   cam.model = options.model;
@@ -406,8 +406,8 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
 }
 
 double reprojectionRmsWithFixedIntrinsics(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int min_corners) {
-  PinholeCamera cam = camera;
+                                          const CalibCamera& camera, int min_corners) {
+  CalibCamera cam = camera;
   double sum2 = 0;
   size_t n = 0;
   for (const auto& obs : views) {

@@ -22,7 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "calib/intrinsics/intrinsics_start.h"
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::data {
@@ -74,12 +74,12 @@ enum class IntrinsicsStage { kFocal, kPrincipalPoint, kDistortion };
 
 struct IntrinsicsStageResult {
   IntrinsicsStage stage = IntrinsicsStage::kFocal;
-  PinholeCamera camera;  // after the stage
+  CalibCamera camera;  // after the stage
   int outliers = 0;      // corners the stage's rejection left out
 };
 
 struct IntrinsicsResult {
-  PinholeCamera camera;
+  CalibCamera camera;
   bool has_sigma = false;
   std::array<double, 8> sigma{};  // 1-sigma of params, scaled by the residual variance
   Eigen::Matrix<double, 8, 8> covariance = Eigen::Matrix<double, 8, 8>::Zero();  // of the params
@@ -96,7 +96,7 @@ struct IntrinsicsResult {
   std::vector<IntrinsicsStageResult> stages;
   // The final model fitted to every usable corner (plain least squares, before the outlier
   // rounds): how far the result moves without the rejection says how much it rests on them.
-  PinholeCamera camera_all_corners;
+  CalibCamera camera_all_corners;
   std::vector<std::string> solver_problems;  // failed solves, in the tool's words
   bool final_solve_usable = true;            // the last solve produced a solution
   bool final_solve_converged = true;         // ... and converged within max_iterations
@@ -120,6 +120,6 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& views
 // the RMS reprojection error over all corners of the usable views is returned (-1 if none).
 // Used to compare a calibration with a reference (e.g. a published sensor.yaml).
 double reprojectionRmsWithFixedIntrinsics(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int min_corners = 12);
+                                          const CalibCamera& camera, int min_corners = 12);
 
 }  // namespace adugs::calib

@@ -35,7 +35,7 @@ bool poseFromPnp(const TargetObservation& view, double f, double cu, double cv, 
   return std::all_of(pose.begin(), pose.end(), [](double x) { return std::isfinite(x); });
 }
 
-Eigen::Vector2d cornerResidual(const PinholeCamera& camera, const Pose6& pose,
+Eigen::Vector2d cornerResidual(const CalibCamera& camera, const Pose6& pose,
                                const CornerObservation& corner) {
   const ReprojectionCost cost(camera.model, corner.pixel, corner.point);
   Eigen::Vector2d r;

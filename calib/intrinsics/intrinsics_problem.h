@@ -7,7 +7,7 @@
 #include <ceres/rotation.h>
 #include <Eigen/Core>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 #include "data/camera_model.h"
 
@@ -51,7 +51,7 @@ using Pose6 = std::array<double, 6>;  // angle-axis, translation (target -> came
 bool poseFromPnp(const TargetObservation& view, double f, double cu, double cv, Pose6& pose);
 
 // Projected minus measured for camera + pose; NaN when the corner lies behind the camera.
-Eigen::Vector2d cornerResidual(const PinholeCamera& camera, const Pose6& pose,
+Eigen::Vector2d cornerResidual(const CalibCamera& camera, const Pose6& pose,
                                const CornerObservation& corner);
 
 }  // namespace adugs::calib

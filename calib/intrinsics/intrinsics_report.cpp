@@ -24,7 +24,7 @@ cv::Scalar viewColour(int view, int views) {
 
 std::string formatIntrinsicsReport(const IntrinsicsResult& r, const IntrinsicsJudgement& j,
                                    const ReportContext& ctx) {
-  const PinholeCamera& c = r.camera;
+  const CalibCamera& c = r.camera;
   std::string s = "adugs calib intrinsics\n";
   s += "  input        " + ctx.input + "\n";
   if (!ctx.target.empty()) s += "  target       " + ctx.target + "\n";

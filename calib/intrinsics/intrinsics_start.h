@@ -19,7 +19,7 @@
 
 #include <Eigen/Core>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::calib {

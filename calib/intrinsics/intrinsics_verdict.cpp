@@ -18,7 +18,7 @@ constexpr double kDeg = 180.0 / M_PI;
 const char* const kParamNames[2][8] = {{"fu", "fv", "pu", "pv", "k1", "k2", "p1", "p2"},
                                        {"fu", "fv", "pu", "pv", "k1", "k2", "k3", "k4"}};
 
-const char* paramName(const PinholeCamera& c, int i) {
+const char* paramName(const CalibCamera& c, int i) {
   return kParamNames[c.model == DistortionModel::kEquidistant ? 1 : 0][i];
 }
 
@@ -82,7 +82,7 @@ IntrinsicsCoverage measureCoverage(const IntrinsicsResult& r, int columns) {
   return c;
 }
 
-double distortionFoldRadius(const PinholeCamera& camera) {
+double distortionFoldRadius(const CalibCamera& camera) {
   // Along the radius (the tangential terms are small for any sane lens), in undistorted angle
   // theta from 0 to 89.5 degrees: the distorted radius must keep growing.
   const double* d = camera.params.data() + 4;
@@ -104,7 +104,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
                                     const IntrinsicsVerdictOptions& o) {
   IntrinsicsJudgement j;
   CalibrationVerdict& v = j.verdict;
-  const PinholeCamera& c = r.camera;
+  const CalibCamera& c = r.camera;
   const int w = c.width, h = c.height;
   j.coverage = measureCoverage(r, o.coverage_columns);
 
@@ -206,10 +206,10 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
     // farthest corner the views cover.
     Eigen::Vector3d ray;
     const bool have_ray = c.unproject(farthest, ray);
-    const PinholeCamera& all = r.camera_all_corners;
+    const CalibCamera& all = r.camera_all_corners;
     for (int i = 0; i < 8; ++i) {
       if (r.has_sigma && have_ray) {
-        PinholeCamera moved = c;
+        CalibCamera moved = c;
         moved.params[i] += r.sigma[i];
         Eigen::Vector2d uv;
         j.sigma_effect_px[i] = moved.project(ray, uv) ? (uv - farthest).norm()
@@ -234,7 +234,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
       bool ok = true;
       for (int i = 0; i < 4 && ok; ++i) {
         const double step = 1e-6 * std::max(1.0, std::abs(c.params[4 + i]));
-        PinholeCamera plus = c, minus = c;
+        CalibCamera plus = c, minus = c;
         plus.params[4 + i] += step;
         minus.params[4 + i] -= step;
         Eigen::Vector2d up, um;

@@ -55,7 +55,7 @@ void readIntrinsicsVerdictOptions(data::YamlOptionsReader& r, IntrinsicsVerdictO
 
 // Where the lens model stops being one-to-one: the largest distorted normalised radius it
 // reaches before the distortion folds back (+infinity when it never does up to ~89 degrees).
-double distortionFoldRadius(const PinholeCamera& camera);
+double distortionFoldRadius(const CalibCamera& camera);
 
 struct IntrinsicsJudgement {
   CalibrationVerdict verdict;

@@ -16,7 +16,7 @@ namespace adugs::calib {
 namespace {
 
 // kdu for x_u = x_d (1 + kdu r_d^2), fitted over the image diagonal (pixels).
-double fitKdu(const PinholeCamera& c) {
+double fitKdu(const CalibCamera& c) {
   const double k1 = c.params[4];
   double num = 0, den = 0;
   for (int i = 1; i <= 200; ++i) {
@@ -35,7 +35,7 @@ double fitKdu(const PinholeCamera& c) {
 
 }  // namespace
 
-void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
+void writeVispCameraXml(const std::string& path, const CalibCamera& c,
                         const std::string& camera_name, const std::string& note) {
   namespace fs = std::filesystem;
   const std::string tmp = path + ".visp.tmp";

@@ -6,13 +6,13 @@
 
 #include <Eigen/Geometry>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/aprilgrid.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::calib::synth {
 
-inline std::vector<TargetObservation> syntheticViews(const PinholeCamera& cam, const AprilGrid& grid,
+inline std::vector<TargetObservation> syntheticViews(const CalibCamera& cam, const AprilGrid& grid,
                                                      int n_views, double noise_px,
                                                      unsigned seed = 7, double near_m = 0.7,
                                                      double far_m = 1.2) {
@@ -55,7 +55,7 @@ inline std::vector<TargetObservation> syntheticViews(const PinholeCamera& cam, c
 // one pose): the board seen nearly face-on (tilt_deg about a fixed axis) at distance_m, its
 // centre offset in the camera frame by (offset_x, offset_y) metres, each view jittered by up to
 // jitter_m and jitter_deg. Corners outside the image are dropped (the board may be cut).
-inline std::vector<TargetObservation> nearStillViews(const PinholeCamera& cam,
+inline std::vector<TargetObservation> nearStillViews(const CalibCamera& cam,
                                                      const AprilGrid& grid, int n_views,
                                                      double noise_px, unsigned seed,
                                                      double distance_m, double tilt_deg,
@@ -94,8 +94,8 @@ inline std::vector<TargetObservation> nearStillViews(const PinholeCamera& cam,
   return views;
 }
 
-inline PinholeCamera eurocLikeCamera() {
-  PinholeCamera c;
+inline CalibCamera eurocLikeCamera() {
+  CalibCamera c;
   c.width = 752;
   c.height = 480;
   c.model = DistortionModel::kRadialTangential;
@@ -103,8 +103,8 @@ inline PinholeCamera eurocLikeCamera() {
   return c;
 }
 
-inline PinholeCamera fisheyeCamera() {
-  PinholeCamera c;
+inline CalibCamera fisheyeCamera() {
+  CalibCamera c;
   c.width = 848;
   c.height = 800;
   c.model = DistortionModel::kEquidistant;

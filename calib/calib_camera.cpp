@@ -1,12 +1,12 @@
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
-bool PinholeCamera::project(const Eigen::Vector3d& p_C, Eigen::Vector2d& uv) const {
+bool CalibCamera::project(const Eigen::Vector3d& p_C, Eigen::Vector2d& uv) const {
   return data::projectPoint(model, params.data(), p_C.data(), uv.data());
 }
 
-bool PinholeCamera::unproject(const Eigen::Vector2d& uv, Eigen::Vector3d& ray) const {
+bool CalibCamera::unproject(const Eigen::Vector2d& uv, Eigen::Vector3d& ray) const {
   const data::CameraModel camera = cameraModel();
   const Eigen::Vector2d xn = camera.pixelToNormalized(uv);
   // The undistortion stops just short of 90 degrees for fisheye pixels beyond it: check it hit.
@@ -16,13 +16,13 @@ bool PinholeCamera::unproject(const Eigen::Vector2d& uv, Eigen::Vector3d& ray) c
   return true;
 }
 
-data::CameraModel PinholeCamera::cameraModel() const {
+data::CameraModel CalibCamera::cameraModel() const {
   return data::CameraModel(width, height, fu(), fv(), pu(), pv(),
                            data::CameraModel::fromModel(model),
                            {params[4], params[5], params[6], params[7]});
 }
 
-data::CameraCalibration PinholeCamera::toEuroc() const {
+data::CameraCalibration CalibCamera::toEuroc() const {
   data::CameraCalibration c;
   c.width = width;
   c.height = height;

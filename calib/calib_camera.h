@@ -13,7 +13,7 @@ namespace adugs::calib {
 
 using data::DistortionModel;
 
-struct PinholeCamera {
+struct CalibCamera {
   int width = 0, height = 0;
   DistortionModel model = DistortionModel::kRadialTangential;
   std::array<double, 8> params{};  // fu fv pu pv d0 d1 d2 d3
