@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpXmlParserCamera.h>
@@ -38,6 +39,8 @@ double fitKdu(const CalibCamera& c) {
 void writeVispCameraXml(const std::string& path, const CalibCamera& c,
                         const std::string& camera_name, const std::string& note) {
   namespace fs = std::filesystem;
+  if (c.projection != ProjectionModel::kPinhole)
+    throw std::invalid_argument("writeVispCameraXml: ViSP has no " + c.modelName() + " camera");
   const std::string tmp = path + ".visp.tmp";
   std::error_code ec;
   fs::remove(tmp, ec);

@@ -14,7 +14,8 @@
 namespace adugs::calib {
 
 // note: extra text for the XML comment (e.g. the calibration's verdict). Throws
-// data::InputError if the file cannot be written.
+// data::InputError if the file cannot be written, std::invalid_argument for a camera that is not
+// pinhole (ViSP 3.5 has no unified, double-sphere or EUCM camera).
 void writeVispCameraXml(const std::string& path, const CalibCamera& camera,
                         const std::string& camera_name = "Camera", const std::string& note = "");
 

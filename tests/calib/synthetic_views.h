@@ -112,4 +112,32 @@ inline CalibCamera fisheyeCamera() {
   return c;
 }
 
+// The wide-angle models with Basalt's EuRoC cam0 fits (basalt data/euroc_ds_calib.json,
+// euroc_eucm_calib.json), and an omni camera of the same lens (on-axis focal ~460 px).
+inline CalibCamera wideCamera(ProjectionModel projection) {
+  CalibCamera c;
+  c.width = 752;
+  c.height = 480;
+  c.projection = projection;
+  c.model = DistortionModel::kNone;
+  switch (projection) {
+    case ProjectionModel::kDoubleSphere:
+      c.params = {349.756, 348.725, 365.894, 249.330, 0, 0, 0, 0};
+      c.projection_params = {-0.24096, 0.56700};
+      break;
+    case ProjectionModel::kExtendedUnified:
+      c.params = {460.765, 459.405, 365.894, 249.335, 0, 0, 0, 0};
+      c.projection_params = {0.59034, 1.12747};
+      break;
+    case ProjectionModel::kUnified:
+      c.model = DistortionModel::kRadialTangential;
+      c.params = {874.0, 871.5, 365.9, 249.3, -0.06, 0.02, 0.0005, -0.0003};
+      c.projection_params = {0.9, 0};
+      break;
+    case ProjectionModel::kPinhole:
+      return eurocLikeCamera();
+  }
+  return c;
+}
+
 }  // namespace adugs::calib::synth

@@ -119,7 +119,7 @@ TEST(CalibCli, BadInputsFailWithAClearMessage) {
                                " --resolution 752x480 --model kb8 --out " + tmp.path().string(),
                            &out),
             2);
-  EXPECT_NE(out.find("unknown distortion model 'kb8'"), std::string::npos) << out;
+  EXPECT_NE(out.find("unknown camera model 'kb8'"), std::string::npos) << out;
   EXPECT_EQ(test::runAdugs("calib intrinsics --corners " + dir.string() + " --out " +
                                tmp.path().string(),
                            &out),
