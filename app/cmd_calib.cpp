@@ -223,14 +223,18 @@ void runDetect(const DetectArgs& a) {
 
 // ------------------------------------------------------------ intrinsics
 // --model: the lens models calib/lens_refit names, with Kalibr's spellings (pinhole-radtan,
-// pinhole-equi, omni-radtan) as aliases; a pinhole without distortion has nothing to calibrate.
+// pinhole-equi, omni-radtan) and the distortion names data::parseDistortionModel knows as
+// aliases; a pinhole without distortion has nothing to calibrate.
 calib::LensModel parseIntrinsicsModel(const std::string& name) {
   std::string m = name;
   if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
-  if (m == "equi") m = "equidistant";
   if (m == "omni-radtan") m = "omni";
   calib::LensModel lens;
-  if (m == "pinhole" || m == "none" || !calib::parseLensModel(m, lens))
+  // The distortion names (radtan, equidistant and their spellings: equi, fisheye, ...) are pinhole.
+  data::DistortionModel distortion;
+  if (data::parseDistortionModel(m, distortion) && distortion != data::DistortionModel::kNone)
+    return {data::ProjectionModel::kPinhole, distortion};
+  if (m == "pinhole" || !calib::parseLensModel(m, lens))
     throw data::InputError(kCli, 0, "--model",
                            "unknown camera model '" + name +
                                "' (use radtan (default), equidistant, omni, omni-none, ds or eucm; "
