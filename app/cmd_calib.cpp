@@ -22,6 +22,7 @@
 #include "calib/intrinsics/intrinsics_verdict.h"
 #include "calib/intrinsics/visp_camera_xml.h"
 #include "calib/kalibr_yaml.h"
+#include "calib/lens_refit.h"
 #include "calib/target/aprilgrid_detector.h"
 #include "calib/target/aprilgrid_render.h"
 #include "calib/target/aprilgrid_target_yaml.h"
@@ -221,6 +222,26 @@ void runDetect(const DetectArgs& a) {
 }
 
 // ------------------------------------------------------------ intrinsics
+// --model: the lens models calib/lens_refit names, with Kalibr's spellings (pinhole-radtan,
+// pinhole-equi, omni-radtan) and the distortion names data::parseDistortionModel knows as
+// aliases; a pinhole without distortion has nothing to calibrate.
+calib::LensModel parseIntrinsicsModel(const std::string& name) {
+  std::string m = name;
+  if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
+  if (m == "omni-radtan") m = "omni";
+  calib::LensModel lens;
+  // The distortion names (radtan, equidistant and their spellings: equi, fisheye, ...) are pinhole.
+  data::DistortionModel distortion;
+  if (data::parseDistortionModel(m, distortion) && distortion != data::DistortionModel::kNone)
+    return {data::ProjectionModel::kPinhole, distortion};
+  if (m == "pinhole" || !calib::parseLensModel(m, lens))
+    throw data::InputError(kCli, 0, "--model",
+                           "unknown camera model '" + name +
+                               "' (use radtan (default), equidistant, omni, omni-none, ds or eucm; "
+                               "Kalibr's pinhole-radtan, pinhole-equi and omni-radtan are accepted)");
+  return lens;
+}
+
 struct IntrinsicsArgs {
   std::string target;
   std::string images;
@@ -245,14 +266,9 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   o.intrinsics.threads = a.threads;
   o.detector.threads = a.threads;
   if (!a.model.empty()) {
-    std::string m = a.model;
-    if (m.rfind("pinhole-", 0) == 0) m = m.substr(8);
-    if (!data::parseDistortionModel(m, o.intrinsics.model) ||
-        o.intrinsics.model == data::DistortionModel::kNone)  // nothing to calibrate
-      throw data::InputError(kCli, 0, "--model",
-                             "unknown distortion model '" + a.model +
-                                 "' (use radtan or equidistant, optionally as pinhole-radtan / "
-                                 "pinhole-equi)");
+    const calib::LensModel lens = parseIntrinsicsModel(a.model);
+    o.intrinsics.projection = lens.projection;
+    o.intrinsics.model = lens.distortion;
   }
   calib::AprilGrid grid;
   Detected d;
@@ -311,11 +327,7 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (!a.reference.empty()) {
     ctx.has_reference = true;
     ctx.reference_name = a.reference;
-    ctx.reference.width = ref.width;
-    ctx.reference.height = ref.height;
-    ctx.reference.model = ref.distortion_model;
-    ctx.reference.params = {ref.fx, ref.fy, ref.cx, ref.cy, ref.distortion[0], ref.distortion[1],
-                            ref.distortion[2], ref.distortion[3]};
+    ctx.reference = calib::fromCalibration(ref);
     ctx.reference_rms_px = calib::reprojectionRmsWithFixedIntrinsics(
         d.views, ctx.reference, o.intrinsics.min_corners_per_view);
     ctx.our_rms_all_px = calib::reprojectionRmsWithFixedIntrinsics(
@@ -336,7 +348,9 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   const std::string comment = calib::verdictYamlComment(judgement.verdict);
   data::writeTextFileAtomically((out / "camchain.yaml").string(),
                                 comment + calib::formatCamchainYaml(r.camera));
-  calib::writeVispCameraXml((out / "camera.xml").string(), r.camera, "Camera", comment);
+  // ViSP 3.5 has no unified, double-sphere or EUCM camera: camera.xml for pinhole cameras only.
+  const bool xml = r.camera.projection == data::ProjectionModel::kPinhole;
+  if (xml) calib::writeVispCameraXml((out / "camera.xml").string(), r.camera, "Camera", comment);
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   writePng((out / "residuals.png").string(), calib::renderResidualPlot(r));
   writePng((out / "coverage.png").string(), calib::renderCoveragePlot(r, judgement));
@@ -344,8 +358,9 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   if (a.save_corners && !a.images.empty() && !is_chessboard) saveCorners((out / "corners").string(), grid, d);
 
   std::cout << head;
-  std::cout << "Wrote " << (out / "camchain.yaml").string()
-            << ", camera.xml, report.txt, residuals.png, coverage.png, residuals.csv\n";
+  std::cout << "Wrote " << (out / "camchain.yaml").string() << (xml ? ", camera.xml" : "")
+            << ", report.txt, residuals.png, coverage.png, residuals.csv"
+            << (xml ? "" : " (no camera.xml: ViSP has no " + r.camera.modelName() + " camera)") << "\n";
   if (judgement.verdict.verdict == calib::Verdict::kWeak)
     std::cout << "WARNING: verdict WEAK (see above): record again before relying on this calibration\n";
 }
@@ -578,11 +593,11 @@ void registerCalibCommand(CLI::App& root) {
   detect->callback([d] { runDetect(*d); });
 
   auto in = std::make_shared<IntrinsicsArgs>();
-  CLI::App* intr = calib->add_subcommand("intrinsics", "Calibrate a pinhole camera (radtan or equidistant) from AprilGrid views");
+  CLI::App* intr = calib->add_subcommand("intrinsics", "Calibrate a camera's intrinsics (pinhole radtan or equidistant, omni, double sphere, EUCM) from AprilGrid views");
   intr->add_option("--target", in->target, "Target YAML (needed with --images; checked against the CSVs with --corners), or chessboard:COLSxROWS:SQUARE_M");
   intr->add_option("--images", in->images, "EuRoC cam folder, image folder or video");
   intr->add_option("--corners", in->corners, "Folder of corner CSVs (or one CSV) instead of images");
-  intr->add_option("--model", in->model, "Distortion model: radtan (default) or equidistant");
+  intr->add_option("--model", in->model, "Camera model: radtan (pinhole-radtan, default), equidistant (pinhole-equi), omni (omni-radtan), omni-none, ds (double sphere) or eucm (extended unified)");
   intr->add_option("--resolution", in->resolution, "Image size WxH (needed with --corners)");
   intr->add_option("--options", in->options, "Options YAML (calibration keys + detector: ...)");
   intr->add_option("--reference", in->reference, "EuRoC sensor.yaml to compare the result with (report)");

@@ -1,22 +1,29 @@
 #include "calib/kalibr_yaml.h"
 
+#include <vector>
+
 #include "calib/text_format.h"
 
 namespace adugs::calib {
 
-std::string formatCamchainYaml(const PinholeCamera& c, const std::string& name,
+std::string formatCamchainYaml(const CalibCamera& c, const std::string& name,
                                const std::string& rostopic) {
-  auto list = [&](int from, int to) {
+  auto list = [](const std::vector<double>& v) {
     std::string s = "[";
-    for (int i = from; i < to; ++i) s += (i > from ? ", " : "") + formatDouble(c.params[i]);
+    for (size_t i = 0; i < v.size(); ++i) s += (i > 0 ? ", " : "") + formatDouble(v[i]);
     return s + "]";
   };
+  // Kalibr's intrinsics: the projection's parameters first ([xi], [xi alpha], [alpha beta]).
+  std::vector<double> intrinsics(c.projection_params.begin(),
+                                 c.projection_params.begin() + data::projectionParameterCount(c.projection));
+  intrinsics.insert(intrinsics.end(), c.params.begin(), c.params.begin() + 4);
+  const bool none = c.model == DistortionModel::kNone;
   std::string s = name + ":\n";
   s += "  cam_overlaps: []\n";
-  s += "  camera_model: pinhole\n";
-  s += "  distortion_coeffs: " + list(4, 8) + "\n";
+  s += "  camera_model: " + data::toString(c.projection) + "\n";
+  s += "  distortion_coeffs: " + list(none ? std::vector<double>{} : std::vector<double>(c.params.begin() + 4, c.params.end())) + "\n";
   s += "  distortion_model: " + data::kalibrName(c.model) + "\n";
-  s += "  intrinsics: " + list(0, 4) + "\n";
+  s += "  intrinsics: " + list(intrinsics) + "\n";
   s += "  resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
   s += "  rostopic: " + rostopic + "\n";
   return s;

@@ -2,18 +2,19 @@
 // Kalibr output files: camchain.yaml (one camera) and imu.yaml (noise figures).
 #include <string>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
 // cam0:
-//   camera_model: pinhole
-//   intrinsics: [fu, fv, pu, pv]
-//   distortion_model: radtan | equidistant
-//   distortion_coeffs: [..4..]
+//   camera_model: pinhole | omni | ds | eucm
+//   intrinsics: [fu, fv, pu, pv], omni [xi, fu, fv, pu, pv], ds [xi, alpha, fu, fv, pu, pv],
+//               eucm [alpha, beta, fu, fv, pu, pv]
+//   distortion_model: radtan | equidistant | none
+//   distortion_coeffs: [..4..] ([] for none)
 //   resolution: [w, h]
 //   ...
-std::string formatCamchainYaml(const PinholeCamera& camera, const std::string& camera_name = "cam0",
+std::string formatCamchainYaml(const CalibCamera& camera, const std::string& camera_name = "cam0",
                                const std::string& rostopic = "/cam0/image_raw");
 
 struct ImuNoiseFigures {

@@ -22,6 +22,7 @@ const NamedModel kModels[] = {
     {"equidistant", {ProjectionModel::kPinhole, DistortionModel::kEquidistant}},
     {"pinhole", {ProjectionModel::kPinhole, DistortionModel::kNone}},
     {"omni", {ProjectionModel::kUnified, DistortionModel::kRadialTangential}},
+    {"omni-none", {ProjectionModel::kUnified, DistortionModel::kNone}},
     {"ds", {ProjectionModel::kDoubleSphere, DistortionModel::kNone}},
     {"eucm", {ProjectionModel::kExtendedUnified, DistortionModel::kNone}},
 };

@@ -23,6 +23,7 @@ namespace adugs::calib {
 //   radtan       pinhole + radial-tangential       equidistant  pinhole + equidistant (KB4)
 //   pinhole      pinhole, no distortion            omni         unified (MEI) + radtan
 //   ds           double sphere                     eucm         extended unified
+//   omni-none    unified (MEI) without distortion
 struct LensModel {
   data::ProjectionModel projection = data::ProjectionModel::kPinhole;
   data::DistortionModel distortion = data::DistortionModel::kRadialTangential;
@@ -30,7 +31,7 @@ struct LensModel {
 // False for a name not above.
 bool parseLensModel(const std::string& name, LensModel& out);
 std::vector<std::string> lensModelNames();
-// The name of a camera's model as above ("omni-none" for an omni camera without distortion).
+// The name of a camera's model as above.
 std::string lensModelName(const data::CameraCalibration& camera);
 
 struct LensRefitOptions {

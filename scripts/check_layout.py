@@ -26,7 +26,7 @@ ORDER = {
                  {"box.h", "torchscript_module.h", "torch_plugin.h", "torch_plugin_loader.h"}),
     "vio": (["imu", "frontend", "init", "estimator", "eval"], set()),
     "calib": (["target", "intrinsics", "imu_noise", "camera_imu"],
-              {"calibration_verdict.h", "pinhole_camera.h", "kalibr_yaml.h", "solver_outcome.h",
+              {"calibration_verdict.h", "calib_camera.h", "kalibr_yaml.h", "solver_outcome.h",
                "text_format.h"}),
     "app": (["pipeline"], set()),
 }

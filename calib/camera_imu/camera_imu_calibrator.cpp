@@ -104,7 +104,7 @@ enum class Stage { kSpline, kFull };
 
 // covariance: after the solve, the 1-sigma of T_C_I and the shift into res (the final solve).
 void solve(State& s, const std::vector<FrameData>& frames, const ImuRecording& imu,
-           const std::vector<size_t>& imu_used, Stage stage, const PinholeCamera& camera,
+           const std::vector<size_t>& imu_used, Stage stage, const CalibCamera& camera,
            const ImuNoiseFigures& noise, const CameraImuOptions& o, CameraImuResult& res,
            bool covariance = false) {
   ceres::Problem::Options po;
@@ -247,7 +247,7 @@ void initGravity(State& s, const std::vector<RateSample>& gyro, const ImuRecordi
 // Per-corner errors of all frames at the current state (pixels, unweighted); NaN for a corner
 // behind the camera (it has no reprojection error).
 std::vector<std::vector<double>> cornerErrors(const State& s, const std::vector<FrameData>& frames,
-                                              const PinholeCamera& camera) {
+                                              const CalibCamera& camera) {
   std::vector<std::vector<double>> errors;
   std::vector<bool> behind;
   for (const FrameData& f : frames) {
@@ -293,7 +293,7 @@ void readCameraImuOptions(data::YamlOptionsReader& r, CameraImuOptions& o) {
 }
 
 CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
-                                   const PinholeCamera& camera, const ImuRecording& imu,
+                                   const CalibCamera& camera, const ImuRecording& imu,
                                    const ImuNoiseFigures& noise, const CameraImuOptions& o,
                                    const CameraImuSources& src) {
   const auto start = std::chrono::steady_clock::now();

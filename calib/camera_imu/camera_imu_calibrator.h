@@ -14,7 +14,7 @@
 
 #include "calib/imu_noise/allan_variance.h"
 #include "calib/kalibr_yaml.h"
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::data {
@@ -108,7 +108,7 @@ struct CameraImuResult {
 // Throws data::InputError (naming sources.*) for too few frames, IMU not covering the frames,
 // no rotation excitation, corners outside the intrinsics' image (files of different cameras).
 CameraImuResult calibrateCameraImu(const std::vector<TargetObservation>& views,
-                                   const PinholeCamera& camera, const ImuRecording& imu,
+                                   const CalibCamera& camera, const ImuRecording& imu,
                                    const ImuNoiseFigures& noise, const CameraImuOptions& options,
                                    const CameraImuSources& sources = {});
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "calib/camera_imu/camera_imu_spline.h"
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
@@ -89,7 +89,7 @@ struct FrameReprojection {
   };
   double t_cam_in_segment;  // t_cam - segment start, seconds (the shift is added on top)
   double inv_dt;
-  const PinholeCamera* camera;
+  const CalibCamera* camera;
   std::vector<Corner> corners;
   double inv_sigma_px = 1;
 

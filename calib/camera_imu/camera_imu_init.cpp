@@ -10,7 +10,7 @@
 namespace adugs::calib {
 
 std::vector<BoardPose> estimateBoardPoses(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int64_t origin_ns,
+                                          const CalibCamera& camera, int64_t origin_ns,
                                           int min_corners, double max_rms_px) {
   std::vector<BoardPose> poses;
   for (size_t v = 0; v < views.size(); ++v) {

@@ -9,7 +9,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::calib {
@@ -25,7 +25,7 @@ struct BoardPose {
 // PnP on the undistorted corners of every view with at least min_corners corners; views whose
 // PnP RMS exceeds max_rms_px are dropped. t = (view.t_ns - origin_ns) * 1e-9.
 std::vector<BoardPose> estimateBoardPoses(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int64_t origin_ns,
+                                          const CalibCamera& camera, int64_t origin_ns,
                                           int min_corners = 12, double max_rms_px = 3.0);
 
 struct RateSample {

@@ -47,17 +47,17 @@ std::vector<double> numbers(const YAML::Node& n, size_t count, const std::string
   return v;
 }
 
-void checkCamera(const PinholeCamera& c, const std::string& path, const std::string& field) {
+void checkCamera(const CalibCamera& c, const std::string& path, const std::string& field) {
   if (c.width <= 0 || c.height <= 0)
     throw InputError(path, 0, field + "resolution", "must be positive");
   if (!(c.params[0] > 0 && c.params[1] > 0))
     throw InputError(path, 0, field + "intrinsics", "focal lengths must be positive");
 }
 
-PinholeCamera readCamera(const YAML::Node& cam, const std::string& path, const std::string& prefix,
+CalibCamera readCamera(const YAML::Node& cam, const std::string& path, const std::string& prefix,
                          const char* intrinsics_key, const char* coeffs_key,
                          const char* model_key) {
-  PinholeCamera c;
+  CalibCamera c;
   const auto res = numbers(need(cam, "resolution", path, prefix), 2, path, prefix + "resolution");
   c.width = static_cast<int>(res[0]);
   c.height = static_cast<int>(res[1]);
@@ -112,7 +112,7 @@ CameraImuSensors readYacCalibConfig(const std::string& path, const std::string& 
 
 // Both through the one reader of calibration files (data/formats/calibration_files.h), so any
 // tool's file works here as it does for `adugs run`.
-PinholeCamera readKalibrCamchain(const std::string& path, const std::string& camera_name) {
+CalibCamera readKalibrCamchain(const std::string& path, const std::string& camera_name) {
   const data::RigCalibration rig = data::readCalibrationFiles({path});
   size_t index = 0;
   if (camera_name.rfind("cam", 0) != 0 || std::sscanf(camera_name.c_str() + 3, "%zu", &index) != 1)
@@ -123,7 +123,7 @@ PinholeCamera readKalibrCamchain(const std::string& path, const std::string& cam
     throw InputError(path, 0, camera_name + ".camera_model",
                      "the calibration takes pinhole cameras (radtan, equidistant or no distortion), found " +
                          data::toString(c.projection));
-  PinholeCamera p;
+  CalibCamera p;
   p.width = c.width;
   p.height = c.height;
   p.model = c.distortion_model == data::DistortionModel::kNone ? data::DistortionModel::kRadialTangential

@@ -12,12 +12,12 @@
 #include <string>
 
 #include "calib/kalibr_yaml.h"
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
 struct CameraImuSensors {
-  PinholeCamera camera;
+  CalibCamera camera;
   bool has_camera = false;
   ImuNoiseFigures imu;
   bool has_imu = false;
@@ -28,7 +28,7 @@ struct CameraImuSensors {
 CameraImuSensors readYacCalibConfig(const std::string& path,
                                     const std::string& camera_name = "cam0");
 // Kalibr camchain.yaml (or camchain-imucam.yaml): the camera block.
-PinholeCamera readKalibrCamchain(const std::string& path, const std::string& camera_name = "cam0");
+CalibCamera readKalibrCamchain(const std::string& path, const std::string& camera_name = "cam0");
 // Kalibr imu.yaml: the four noise figures and update_rate.
 ImuNoiseFigures readKalibrImuYaml(const std::string& path);
 // EuRoC cam0/sensor.yaml: T_BS as T_I_C (camera -> IMU/body).

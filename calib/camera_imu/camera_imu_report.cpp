@@ -47,7 +47,7 @@ void text(cv::Mat& img, const std::string& t, int x, int y, double scale = 0.45)
 
 }  // namespace
 
-std::string formatCamchainImuCamYaml(const PinholeCamera& camera, const CameraImuResult& r,
+std::string formatCamchainImuCamYaml(const CalibCamera& camera, const CameraImuResult& r,
                                      const std::string& name, const std::string& rostopic) {
   std::string s = formatCamchainYaml(camera, name, rostopic);
   s += "  T_cam_imu:\n" + matrixYaml(r.T_C_I.matrix(), "  ");

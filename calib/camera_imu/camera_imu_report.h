@@ -11,7 +11,7 @@ namespace adugs::calib {
 
 // Kalibr camchain-imucam.yaml: the camchain block of the camera plus T_cam_imu (4x4, row-major
 // nested lists as Kalibr writes them) and timeshift_cam_imu.
-std::string formatCamchainImuCamYaml(const PinholeCamera& camera, const CameraImuResult& result,
+std::string formatCamchainImuCamYaml(const CalibCamera& camera, const CameraImuResult& result,
                                      const std::string& camera_name = "cam0",
                                      const std::string& rostopic = "/cam0/image_raw");
 

@@ -40,11 +40,59 @@ double median(std::vector<double> v) {
 const char* stageName(IntrinsicsStage stage) {
   switch (stage) {
     case IntrinsicsStage::kFocal:
-      return "focal (+ first distortion coefficient, principal point at the centre)";
+      return "focal (+ first lens parameter, principal point at the centre)";
     case IntrinsicsStage::kPrincipalPoint: return "principal point";
     case IntrinsicsStage::kDistortion: return "distortion";
   }
   return "";
+}
+
+// The first lens parameter, freed with the focal length in stages 1-2 (CalibCamera index): the
+// pinhole's k1; omni's xi (its distortion waits for stage 3); the double sphere's alpha (xi waits:
+// with xi fixed the model is the unified one, which alpha alone already bends); EUCM's alpha (beta
+// waits at 1: the unified model again).
+int firstLensParameter(const CalibCamera& c) {
+  switch (c.projection) {
+    case ProjectionModel::kPinhole: return 4;
+    case ProjectionModel::kUnified: return 8;
+    case ProjectionModel::kDoubleSphere: return 9;
+    case ProjectionModel::kExtendedUnified: return 8;
+  }
+  return 4;
+}
+
+bool freeInStage(const CalibCamera& c, IntrinsicsStage stage, int i) {
+  if (!c.hasParameter(i)) return false;
+  if (stage == IntrinsicsStage::kDistortion || i < 2) return true;
+  if (i < 4) return stage == IntrinsicsStage::kPrincipalPoint;
+  return i == firstLensParameter(c);
+}
+
+// Holds what the stage does not free: the whole block constant, or a SubsetManifold over the
+// entries held. first = the block's first CalibCamera index.
+void holdFixed(ceres::Problem& problem, double* block, int size, int first, const CalibCamera& c,
+               IntrinsicsStage stage) {
+  std::vector<int> fixed;
+  for (int k = 0; k < size; ++k)
+    if (!freeInStage(c, stage, first + k)) fixed.push_back(k);
+  if (static_cast<int>(fixed.size()) == size) problem.SetParameterBlockConstant(block);
+  else if (!fixed.empty()) problem.SetManifold(block, new ceres::SubsetManifold(size, fixed));
+}
+
+// The projection parameters' ranges (data::CameraModel's): omni xi >= 0; ds xi in [-1, 1], alpha
+// in [0, 1]; eucm alpha in [0, 1], beta > 0.
+void boundProjection(ceres::Problem& problem, double* q, ProjectionModel projection) {
+  auto bound = [&](int k, double lo, double hi) {
+    problem.SetParameterLowerBound(q, k, lo);
+    if (std::isfinite(hi)) problem.SetParameterUpperBound(q, k, hi);
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  switch (projection) {
+    case ProjectionModel::kPinhole: break;
+    case ProjectionModel::kUnified: bound(0, 0, inf); break;
+    case ProjectionModel::kDoubleSphere: bound(0, -1, 1), bound(1, 0, 1); break;
+    case ProjectionModel::kExtendedUnified: bound(0, 0, 1), bound(1, 1e-6, inf); break;
+  }
 }
 
 }  // namespace
@@ -52,6 +100,7 @@ const char* stageName(IntrinsicsStage stage) {
 void readIntrinsicsOptions(data::YamlOptionsReader& r, IntrinsicsOptions& o) {
   std::string model;
   if (r.optional("distortion_model", model)) {
+    o.projection = ProjectionModel::kPinhole;
     // 'none' is no lens to calibrate: this calibration estimates a distortion.
     r.check(data::parseDistortionModel(model, o.model) && o.model != data::DistortionModel::kNone,
             "distortion_model", "unknown distortion model '" + model + "' (use radtan or equidistant)");
@@ -131,7 +180,10 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
     so.threads = options.threads;
     if (options.progress) options.progress("start: scoring focal lengths");
     const auto ts = std::chrono::steady_clock::now();
-    result.focal_start = findFocalStart(obs, width, height, options.model, so);
+    CalibCamera model;
+    model.projection = options.projection;
+    model.model = options.model;
+    result.focal_start = findFocalStart(obs, width, height, startDistortion(model), so);
     f = result.focal_start.focal_px;
     result.start_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
   }
@@ -144,14 +196,15 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
   if (static_cast<int>(views.size()) < std::max(1, options.min_views))
     tooFew("too few views with a valid initial pose");
 
-  PinholeCamera cam;
-  cam.width = width;
-  cam.height = height;
+  CalibCamera cam;
+  cam.projection = options.projection;
   cam.model = options.model;
-  cam.params = {f, f, cu, cv0, result.focal_start.first_distortion, 0, 0, 0};
-  double* focal = cam.params.data();
-  double* pp = cam.params.data() + 2;
-  double* dist = cam.params.data() + 4;
+  FocalStart start = result.focal_start;
+  start.focal_px = f;
+  if (options.initial_focal_px > 0) start.first_distortion = 0;
+  cam = startCamera(cam, width, height, start);
+  result.start_camera = cam;
+  const CameraBlocks b(cam);
 
   // One solve of the current stage over the current inliers. Bounds keep the focal length in the
   // plausible range and the principal point in the image (a result on a bound fails the verdict).
@@ -163,21 +216,22 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
     for (View& v : views)
       for (size_t i = 0; i < v.obs->corners.size(); ++i)
         if (v.inlier[i])
-          problem.AddResidualBlock(ReprojectionCost::create(cam.model, v.obs->corners[i]),
-                                   robust ? new ceres::HuberLoss(2.0) : nullptr, focal, pp, dist,
-                                   v.pose.data());
+          problem.AddResidualBlock(ReprojectionCost::create(cam, v.obs->corners[i]),
+                                   robust ? new ceres::HuberLoss(2.0) : nullptr, b.focal, b.pp,
+                                   b.q, b.dist, v.pose.data());
     if (problem.NumResidualBlocks() == 0) return;
     for (int k = 0; k < 2; ++k) {
-      problem.SetParameterLowerBound(focal, k, f_min);
-      problem.SetParameterUpperBound(focal, k, f_max);
+      problem.SetParameterLowerBound(b.focal, k, f_min);
+      problem.SetParameterUpperBound(b.focal, k, f_max);
     }
-    problem.SetParameterLowerBound(pp, 0, 0);
-    problem.SetParameterUpperBound(pp, 0, width - 1);
-    problem.SetParameterLowerBound(pp, 1, 0);
-    problem.SetParameterUpperBound(pp, 1, height - 1);
-    if (stage == IntrinsicsStage::kFocal) problem.SetParameterBlockConstant(pp);
-    if (stage != IntrinsicsStage::kDistortion)
-      problem.SetManifold(dist, new ceres::SubsetManifold(4, {1, 2, 3}));
+    problem.SetParameterLowerBound(b.pp, 0, 0);
+    problem.SetParameterUpperBound(b.pp, 0, width - 1);
+    problem.SetParameterLowerBound(b.pp, 1, 0);
+    problem.SetParameterUpperBound(b.pp, 1, height - 1);
+    boundProjection(problem, b.q, cam.projection);
+    holdFixed(problem, b.pp, 2, 2, cam, stage);
+    holdFixed(problem, b.dist, 4, 4, cam, stage);
+    holdFixed(problem, b.q, 2, 8, cam, stage);
     ceres::Solver::Options so = quietSolverOptions();
     so.linear_solver_type = ceres::DENSE_SCHUR;
     // Stages 1-2 only prepare the start of the next one: on views that do not fix the focal
@@ -348,52 +402,65 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
 
   if (options.compute_covariance && result.final_solve_usable && n > 0) {
     if (options.progress) options.progress("covariance");
-    // Covariance of the 8 intrinsics with the poses marginalised: the Schur complement
+    // Covariance of the intrinsics with the poses marginalised: the Schur complement
     // S = Hii - sum_v Hip Hpp^-1 Hpi of J'J, built view by view from the evaluated Jacobian
-    // (much faster than a dense covariance over every pose).
+    // (much faster than a dense covariance over every pose). Its columns are CalibCamera's
+    // parameter indices (focal, pp, distortion, projection); those the model does not have are
+    // left out of the inverse.
+    constexpr int kI = CalibCamera::kParameters;
+    using MatrixI = Eigen::Matrix<double, kI, kI>;
     ceres::Problem problem;
-    std::vector<double*> blocks = {focal, pp, dist};
+    std::vector<double*> blocks = {b.focal, b.pp, b.dist, b.q};
     for (View& v : views) {
       blocks.push_back(v.pose.data());
       for (size_t i = 0; i < v.obs->corners.size(); ++i)
         if (v.inlier[i])
-          problem.AddResidualBlock(ReprojectionCost::create(cam.model, v.obs->corners[i]),
-                                   nullptr, focal, pp, dist, v.pose.data());
+          problem.AddResidualBlock(ReprojectionCost::create(cam, v.obs->corners[i]), nullptr,
+                                   b.focal, b.pp, b.q, b.dist, v.pose.data());
     }
+    std::vector<int> used;
+    for (int i = 0; i < kI; ++i)
+      if (cam.hasParameter(i)) used.push_back(i);
+    const int m = static_cast<int>(used.size());
     ceres::Problem::EvaluateOptions eo;
     eo.parameter_blocks = blocks;
     eo.num_threads = options.threads;
     ceres::CRSMatrix J;
-    const int dof = 2 * n - 8 - 6 * static_cast<int>(views.size());
+    const int dof = 2 * n - m - 6 * static_cast<int>(views.size());
     if (dof > 0 && problem.Evaluate(eo, nullptr, nullptr, nullptr, &J)) {
-      Eigen::Matrix<double, 8, 8> S = Eigen::Matrix<double, 8, 8>::Zero();
-      std::vector<Eigen::Matrix<double, 8, 6>> Hip(views.size(), Eigen::Matrix<double, 8, 6>::Zero());
+      MatrixI S = MatrixI::Zero();
+      std::vector<Eigen::Matrix<double, kI, 6>> Hip(views.size(), Eigen::Matrix<double, kI, 6>::Zero());
       std::vector<Eigen::Matrix<double, 6, 6>> Hpp(views.size(), Eigen::Matrix<double, 6, 6>::Zero());
       for (int row = 0; row < J.num_rows; ++row) {
-        Eigen::Matrix<double, 8, 1> a = Eigen::Matrix<double, 8, 1>::Zero();
-        Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+        Eigen::Matrix<double, kI, 1> a = Eigen::Matrix<double, kI, 1>::Zero();
+        Eigen::Matrix<double, 6, 1> p = Eigen::Matrix<double, 6, 1>::Zero();
         int view = -1;
         for (int k = J.rows[row]; k < J.rows[row + 1]; ++k) {
           const int col = J.cols[k];
-          if (col < 8) {
+          if (col < kI) {
             a(col) = J.values[k];
           } else {
-            view = (col - 8) / 6;
-            b((col - 8) % 6) = J.values[k];
+            view = (col - kI) / 6;
+            p((col - kI) % 6) = J.values[k];
           }
         }
         S += a * a.transpose();
         if (view >= 0) {
-          Hip[view] += a * b.transpose();
-          Hpp[view] += b * b.transpose();
+          Hip[view] += a * p.transpose();
+          Hpp[view] += p * p.transpose();
         }
       }
       for (size_t v = 0; v < views.size(); ++v)
         S -= Hip[v] * Hpp[v].ldlt().solve(Hip[v].transpose());
-      const Eigen::Matrix<double, 8, 8> cov = S.inverse() * (sum2 / dof);
-      if (cov.allFinite()) {
-        result.covariance = cov;
-        for (int i = 0; i < 8; ++i) result.sigma[i] = std::sqrt(std::max(0.0, cov(i, i)));
+      Eigen::MatrixXd S_used(m, m);
+      for (int r = 0; r < m; ++r)
+        for (int c = 0; c < m; ++c) S_used(r, c) = S(used[r], used[c]);
+      const Eigen::MatrixXd cov_used = S_used.inverse() * (sum2 / dof);
+      if (cov_used.allFinite()) {
+        result.covariance.setZero();
+        for (int r = 0; r < m; ++r)
+          for (int c = 0; c < m; ++c) result.covariance(used[r], used[c]) = cov_used(r, c);
+        for (int i = 0; i < kI; ++i) result.sigma[i] = std::sqrt(std::max(0.0, result.covariance(i, i)));
         result.has_sigma = true;
       }
     }
@@ -406,8 +473,8 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& obser
 }
 
 double reprojectionRmsWithFixedIntrinsics(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int min_corners) {
-  PinholeCamera cam = camera;
+                                          const CalibCamera& camera, int min_corners) {
+  CalibCamera cam = camera;
   double sum2 = 0;
   size_t n = 0;
   for (const auto& obs : views) {
@@ -432,12 +499,11 @@ double reprojectionRmsWithFixedIntrinsics(const std::vector<TargetObservation>& 
       pose[3 + i] = tvec.at<double>(i);
     }
     ceres::Problem problem;
+    const CameraBlocks b(cam);
     for (const auto& c : obs.corners)
-      problem.AddResidualBlock(ReprojectionCost::create(cam.model, c), nullptr, cam.params.data(),
-                               cam.params.data() + 2, cam.params.data() + 4, pose.data());
-    problem.SetParameterBlockConstant(cam.params.data());
-    problem.SetParameterBlockConstant(cam.params.data() + 2);
-    problem.SetParameterBlockConstant(cam.params.data() + 4);
+      problem.AddResidualBlock(ReprojectionCost::create(cam, c), nullptr, b.focal, b.pp, b.q,
+                               b.dist, pose.data());
+    for (double* block : {b.focal, b.pp, b.q, b.dist}) problem.SetParameterBlockConstant(block);
     ceres::Solver::Options so = quietSolverOptions();
     so.linear_solver_type = ceres::DENSE_QR;
     so.max_num_iterations = 50;

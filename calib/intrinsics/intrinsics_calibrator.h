@@ -1,13 +1,15 @@
 #pragma once
-// Intrinsic calibration of one pinhole camera from AprilGrid (or any planar target)
-// observations, in stages (calib/intrinsics/intrinsics_start for where it starts):
+// Intrinsic calibration of one camera (any projection and distortion of CalibCamera) from
+// AprilGrid (or any planar target) observations, in stages (calib/intrinsics/intrinsics_start for
+// where it starts):
 //   start    a focal length from the views' vanishing points, scored on the views with refit
 //            poses and first distortion coefficient, never outside [0.2, 5] x the image width;
-//            planar PnP per view;
-//   stage 1  focal lengths and the first distortion coefficient (k1), principal point at the
-//            image centre, the other coefficients 0;
+//            the projection's start values (omni xi 1, ds xi -0.2 alpha 0.5, eucm alpha 0.5
+//            beta 1) with that focal length on the optical axis; planar PnP per view;
+//   stage 1  focal lengths and the first lens parameter (pinhole: k1; omni: xi; ds, eucm:
+//            alpha), principal point at the image centre, the others at their start;
 //   stage 2  + the principal point;
-//   stage 3  + all distortion coefficients.
+//   stage 3  + every parameter of the model.
 // Each stage is a Ceres bundle adjustment of the intrinsics and every view's pose, first with a
 // Huber loss; outliers are rejected after each stage (stages 1-2: beyond outlier_sigma robust
 // sigmas, each stage judging every corner again; stage 3: the 3-sigma rounds until none are
@@ -22,7 +24,7 @@
 #include <Eigen/Geometry>
 
 #include "calib/intrinsics/intrinsics_start.h"
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::data {
@@ -32,7 +34,8 @@ class YamlOptionsReader;
 namespace adugs::calib {
 
 struct IntrinsicsOptions {
-  DistortionModel model = DistortionModel::kRadialTangential;
+  ProjectionModel projection = ProjectionModel::kPinhole;
+  DistortionModel model = DistortionModel::kRadialTangential;  // omni: radtan or none; ds, eucm: none
   int min_views = 3;                 // fewer usable views is an error
   int min_corners_per_view = 12;     // views with fewer corners are skipped
   double outlier_sigma = 3.0;        // <= 0 disables outlier rejection
@@ -48,7 +51,8 @@ struct IntrinsicsOptions {
   std::function<void(const std::string&)> progress;
 };
 
-// Reads the keys above (distortion_model as a name: radtan | equidistant). Unknown keys are
+// Reads the keys above (distortion_model as a name: radtan | equidistant, for a pinhole camera;
+// the wide-angle models come from the command line's --model). Unknown keys are
 // InputError; call r.finish() yourself if r holds more than these.
 void readIntrinsicsOptions(data::YamlOptionsReader& r, IntrinsicsOptions& o);
 
@@ -74,15 +78,18 @@ enum class IntrinsicsStage { kFocal, kPrincipalPoint, kDistortion };
 
 struct IntrinsicsStageResult {
   IntrinsicsStage stage = IntrinsicsStage::kFocal;
-  PinholeCamera camera;  // after the stage
+  CalibCamera camera;  // after the stage
   int outliers = 0;      // corners the stage's rejection left out
 };
 
 struct IntrinsicsResult {
-  PinholeCamera camera;
+  CalibCamera camera;
   bool has_sigma = false;
-  std::array<double, 8> sigma{};  // 1-sigma of params, scaled by the residual variance
-  Eigen::Matrix<double, 8, 8> covariance = Eigen::Matrix<double, 8, 8>::Zero();  // of the params
+  // 1-sigma and covariance of every parameter (CalibCamera::parameter indices: params, then
+  // projection_params), scaled by the residual variance; 0 for those the model does not have.
+  std::array<double, CalibCamera::kParameters> sigma{};
+  Eigen::Matrix<double, CalibCamera::kParameters, CalibCamera::kParameters> covariance =
+      Eigen::Matrix<double, CalibCamera::kParameters, CalibCamera::kParameters>::Zero();
   std::vector<ViewStats> views;   // the views used
   std::vector<CornerResidual> residuals;
   int views_given = 0;
@@ -93,10 +100,11 @@ struct IntrinsicsResult {
   int outlier_rounds = 0;
   double initial_focal_px = 0;
   FocalStart focal_start;         // how the start was chosen (not filled for a user-given start)
+  CalibCamera start_camera;       // where the staged solve started
   std::vector<IntrinsicsStageResult> stages;
   // The final model fitted to every usable corner (plain least squares, before the outlier
   // rounds): how far the result moves without the rejection says how much it rests on them.
-  PinholeCamera camera_all_corners;
+  CalibCamera camera_all_corners;
   std::vector<std::string> solver_problems;  // failed solves, in the tool's words
   bool final_solve_usable = true;            // the last solve produced a solution
   bool final_solve_converged = true;         // ... and converged within max_iterations
@@ -120,6 +128,6 @@ IntrinsicsResult calibrateIntrinsics(const std::vector<TargetObservation>& views
 // the RMS reprojection error over all corners of the usable views is returned (-1 if none).
 // Used to compare a calibration with a reference (e.g. a published sensor.yaml).
 double reprojectionRmsWithFixedIntrinsics(const std::vector<TargetObservation>& views,
-                                          const PinholeCamera& camera, int min_corners = 12);
+                                          const CalibCamera& camera, int min_corners = 12);
 
 }  // namespace adugs::calib

@@ -35,12 +35,12 @@ bool poseFromPnp(const TargetObservation& view, double f, double cu, double cv, 
   return std::all_of(pose.begin(), pose.end(), [](double x) { return std::isfinite(x); });
 }
 
-Eigen::Vector2d cornerResidual(const PinholeCamera& camera, const Pose6& pose,
+Eigen::Vector2d cornerResidual(const CalibCamera& camera, const Pose6& pose,
                                const CornerObservation& corner) {
-  const ReprojectionCost cost(camera.model, corner.pixel, corner.point);
+  const ReprojectionCost cost(camera.projection, camera.model, corner.pixel, corner.point);
   Eigen::Vector2d r;
-  if (!cost(camera.params.data(), camera.params.data() + 2, camera.params.data() + 4, pose.data(),
-            r.data()))
+  if (!cost(camera.params.data(), camera.params.data() + 2, camera.projection_params.data(),
+            camera.params.data() + 4, pose.data(), r.data()))
     return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   return r;
 }

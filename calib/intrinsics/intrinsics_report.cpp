@@ -12,6 +12,22 @@ namespace adugs::calib {
 
 namespace {
 
+// Kalibr's spelling of the model: pinhole-radtan, pinhole-equidistant, omni-radtan, omni-none,
+// ds, eucm.
+std::string kalibrModel(const CalibCamera& c) {
+  if (c.projection == ProjectionModel::kPinhole || c.projection == ProjectionModel::kUnified)
+    return (c.projection == ProjectionModel::kPinhole ? "pinhole-" : "omni-") + data::kalibrName(c.model);
+  return data::toString(c.projection);
+}
+
+// The parameters in Kalibr's order: the projection's, fu fv pu pv, the distortion's.
+std::vector<int> reportOrder(const CalibCamera& c) {
+  std::vector<int> order;
+  for (int i : {8, 9, 0, 1, 2, 3, 4, 5, 6, 7})
+    if (c.hasParameter(i)) order.push_back(i);
+  return order;
+}
+
 cv::Scalar viewColour(int view, int views) {
   const int n = std::max(1, views);
   cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(static_cast<int>(160.0 * view / n), 220, 200)), bgr;
@@ -24,12 +40,11 @@ cv::Scalar viewColour(int view, int views) {
 
 std::string formatIntrinsicsReport(const IntrinsicsResult& r, const IntrinsicsJudgement& j,
                                    const ReportContext& ctx) {
-  const PinholeCamera& c = r.camera;
+  const CalibCamera& c = r.camera;
   std::string s = "adugs calib intrinsics\n";
   s += "  input        " + ctx.input + "\n";
   if (!ctx.target.empty()) s += "  target       " + ctx.target + "\n";
-  s += strprintf("  model        pinhole-%s, %dx%d\n", data::kalibrName(c.model).c_str(), c.width,
-                 c.height);
+  s += strprintf("  model        %s, %dx%d\n", kalibrModel(c).c_str(), c.width, c.height);
   if (ctx.detect_seconds >= 0)
     s += strprintf("  detection    %d images in %.2f s (%.1f ms/image)\n", ctx.images,
                    ctx.detect_seconds, ctx.images > 0 ? 1000 * ctx.detect_seconds / ctx.images : 0);
@@ -43,30 +58,44 @@ std::string formatIntrinsicsReport(const IntrinsicsResult& r, const IntrinsicsJu
   s += strprintf("  start        focal %.1f px, k1 %.3g (%d candidates scored on %d views, %.2f s)\n",
                  r.initial_focal_px, r.focal_start.first_distortion, r.focal_start.candidates_scored,
                  r.focal_start.views_scored, r.start_seconds);
+  if (c.projection != ProjectionModel::kPinhole && !r.stages.empty()) {
+    // The projection's start: the on-axis focal length above, then stage 1 frees the first one.
+    std::string q;
+    for (int i : {8, 9})
+      if (c.hasParameter(i)) q += strprintf(" %s %.3g", c.parameterName(i).c_str(), r.start_camera.parameter(i));
+    s += strprintf("               %s:%s, fu %.1f px\n", data::toString(c.projection).c_str(), q.c_str(),
+                   r.start_camera.fu());
+  }
   s += strprintf("  solve        %.3f s, %d solves, %d Ceres iterations\n\n", r.solve_seconds,
                  r.solves, r.iterations);
   s += formatVerdict(j.verdict, "camchain.yaml / camera.xml") + "\n";
 
-  static const char* kNames[2][8] = {
-      {"fu", "fv", "pu", "pv", "k1", "k2", "p1", "p2"},
-      {"fu", "fv", "pu", "pv", "k1", "k2", "k3", "k4"}};
-  const int m = c.model == DistortionModel::kEquidistant ? 1 : 0;
   s += "Intrinsics (1-sigma from the covariance, scaled by the residual variance; the formal\n"
        "1-sigma assumes independent corners and a right model: on real data the error is several\n"
        "times larger)\n";
-  for (int i = 0; i < 8; ++i) {
-    std::string line = strprintf("  %-3s %16.8g", kNames[m][i], c.params[i]);
+  for (int i : reportOrder(c)) {
+    const size_t k = static_cast<size_t>(i);
+    std::string line = strprintf("  %-5s %16.8g", c.parameterName(i).c_str(), c.parameter(i));
     if (r.has_sigma) {
-      line += strprintf("  +- %-10.3g", r.sigma[i]);
-      if (i < 4) line += strprintf(" (%.2f %%)", 100 * r.sigma[i] / (i < 2 ? std::abs(c.params[i]) : c.width));
-      else line += strprintf(" (%.2f px at the farthest corner, alone)", j.sigma_effect_px[static_cast<size_t>(i)]);
+      line += strprintf("  +- %-10.3g", r.sigma[k]);
+      if (i < 4) line += strprintf(" (%.2f %%)", 100 * r.sigma[k] / (i < 2 ? std::abs(c.params[k]) : c.width));
+      else line += strprintf(" (%.2f px at the farthest corner, alone)", j.sigma_effect_px[k]);
     }
-    if (j.poorly_determined[static_cast<size_t>(i)]) line += "  <- poorly determined";
+    if (j.poorly_determined[k]) line += "  <- poorly determined";
     s += line + "\n";
   }
+  if (c.projection == ProjectionModel::kUnified || c.projection == ProjectionModel::kDoubleSphere) {
+    // What the corners fix: xi and fu trade along a valley, the focal length on the axis stays.
+    const DeterminedFocal fu = determinedFocal(r, 0), fv = determinedFocal(r, 1);
+    s += strprintf("  on the optical axis (what the views fix; xi and fu trade along a valley): %s %.2f "
+                   "+- %.3g, %s %.2f +- %.3g px\n",
+                   fu.name.c_str(), fu.px, fu.sigma_px, fv.name.c_str(), fv.px, fv.sigma_px);
+  }
   if (r.has_sigma)
-    s += strprintf("  distortion, all coefficients together: 1-sigma %.2f px at the farthest corner the "
-                   "views cover\n",
+    s += strprintf("  %s together: 1-sigma %.2f px at the farthest corner the views cover\n",
+                   c.projection == ProjectionModel::kPinhole ? "distortion, all coefficients"
+                   : c.model == DistortionModel::kNone       ? "projection parameters"
+                                                             : "projection and distortion parameters",
                    j.distortion_sigma_px);
   if (r.camera_all_corners.width > 0 && r.outliers > 0)
     s += strprintf("  without the outlier rejection (all %d corners): fu %.2f (%+.2f %%), fv %.2f, "
@@ -91,14 +120,14 @@ std::string formatIntrinsicsReport(const IntrinsicsResult& r, const IntrinsicsJu
                    *std::min_element(cov.view_tilt_deg.begin(), cov.view_tilt_deg.end()),
                    cov.max_tilt_deg, cov.tilt_spread_deg);
   if (ctx.has_reference) {
-    s += "\nCompared with " + ctx.reference_name + " (" + data::kalibrName(ctx.reference.model) +
-         ")\n";
-    for (int i = 0; i < 8; ++i) {
-      const double ref = ctx.reference.params[i];
-      if (ctx.reference.model == c.model || i < 4)
-        s += strprintf("  %-3s %16.8g  reference %16.8g  diff %+.3g%s\n", kNames[m][i], c.params[i],
-                       ref, i < 4 ? 100 * (c.params[i] - ref) / ref : c.params[i] - ref,
-                       i < 4 ? " %" : "");
+    s += "\nCompared with " + ctx.reference_name + " (" + kalibrModel(ctx.reference) + ")\n";
+    const bool same_projection = ctx.reference.projection == c.projection;
+    for (int i : reportOrder(c)) {
+      const bool comparable = i < 4 || (i >= 8 ? same_projection : same_projection && ctx.reference.model == c.model);
+      if (!comparable) continue;
+      const double ours = c.parameter(i), ref = ctx.reference.parameter(i);
+      s += strprintf("  %-5s %16.8g  reference %16.8g  diff %+.3g%s\n", c.parameterName(i).c_str(), ours,
+                     ref, i < 4 ? 100 * (ours - ref) / ref : ours - ref, i < 4 ? " %" : "");
     }
     s += strprintf("  RMS on these views, poses refit, all corners: ours %.4f px, reference %.4f px\n",
                    ctx.our_rms_all_px, ctx.reference_rms_px);

@@ -18,7 +18,7 @@ struct ReportContext {
   // Optional reference calibration to compare with (e.g. a published sensor.yaml).
   bool has_reference = false;
   std::string reference_name;
-  PinholeCamera reference;
+  CalibCamera reference;
   double reference_rms_px = -1;  // reprojectionRmsWithFixedIntrinsics(views, reference)
   double our_rms_all_px = -1;    // the same for our result (all corners, no outlier removal)
 };

@@ -51,9 +51,10 @@ std::vector<double> focalCandidatesFromHomography(const Eigen::Matrix3d& H) {
 
 double scoreFocal(const std::vector<const TargetObservation*>& views, DistortionModel model,
                   double f, double cu, double cv, double* k1_out, int threads) {
-  std::array<double, 2> focal{f, f};
-  std::array<double, 2> pp{cu, cv};
-  std::array<double, 4> dist{0, 0, 0, 0};
+  CalibCamera camera;
+  camera.model = model;
+  camera.params = {f, f, cu, cv, 0, 0, 0, 0};
+  CameraBlocks b(camera);
   std::vector<Pose6> poses(views.size());
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -62,13 +63,14 @@ double scoreFocal(const std::vector<const TargetObservation*>& views, Distortion
   for (size_t i = 0; i < views.size(); ++i) {
     if (!poseFromPnp(*views[i], f, cu, cv, poses[i])) continue;
     for (const auto& c : views[i]->corners)
-      problem.AddResidualBlock(ReprojectionCost::create(model, c), new ceres::HuberLoss(2.0),
-                               focal.data(), pp.data(), dist.data(), poses[i].data());
+      problem.AddResidualBlock(ReprojectionCost::create(camera, c), new ceres::HuberLoss(2.0),
+                               b.focal, b.pp, b.q, b.dist, poses[i].data());
   }
   if (problem.NumResidualBlocks() == 0) return std::numeric_limits<double>::infinity();
-  problem.SetParameterBlockConstant(focal.data());
-  problem.SetParameterBlockConstant(pp.data());
-  problem.SetManifold(dist.data(), &first_only);
+  problem.SetParameterBlockConstant(b.focal);
+  problem.SetParameterBlockConstant(b.pp);
+  problem.SetParameterBlockConstant(b.q);
+  problem.SetManifold(b.dist, &first_only);
   ceres::Solver::Options so = quietSolverOptions();
   so.linear_solver_type = ceres::DENSE_SCHUR;
   so.max_num_iterations = 30;
@@ -77,7 +79,7 @@ double scoreFocal(const std::vector<const TargetObservation*>& views, Distortion
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   if (!summary.IsSolutionUsable()) return std::numeric_limits<double>::infinity();
-  if (k1_out) *k1_out = dist[0];
+  if (k1_out) *k1_out = b.dist[0];
   return std::sqrt(2 * summary.final_cost / problem.NumResiduals());
 }
 
@@ -160,6 +162,43 @@ FocalStart findFocalStart(const std::vector<const TargetObservation*>& all_views
     }
   }
   return start;
+}
+
+DistortionModel startDistortion(const CalibCamera& camera) {
+  return camera.projection == ProjectionModel::kPinhole ? camera.model : DistortionModel::kEquidistant;
+}
+
+CalibCamera startCamera(const CalibCamera& model, int width, int height, const FocalStart& start) {
+  const double f = start.focal_px;
+  CalibCamera c;
+  c.width = width;
+  c.height = height;
+  c.projection = model.projection;
+  c.model = model.model;
+  c.params = {f, f, (width - 1) / 2.0, (height - 1) / 2.0, 0, 0, 0, 0};
+  switch (model.projection) {
+    case ProjectionModel::kPinhole:
+      c.params[4] = start.first_distortion;
+      break;
+    case ProjectionModel::kUnified:
+      // Kalibr's start: xi = 1 (the paraboloid mirror); the on-axis focal length is fu / (1 + xi).
+      c.projection_params = {1.0, 0.0};
+      c.params[0] = c.params[1] = 2 * f;
+      break;
+    case ProjectionModel::kDoubleSphere:
+      // Basalt's start: xi -0.2 (a lens with less than a hemisphere in view), alpha 0.5; the
+      // on-axis focal length is fx / (1 + xi).
+      // (From xi 0.3 the EuRoC cam0 views end in a second, slightly worse minimum at xi 0.81,
+      // fu 836 px; from -0.5 and -0.2 in the same one, xi -0.29.)
+      c.projection_params = {-0.2, 0.5};
+      c.params[0] = c.params[1] = 0.8 * f;
+      break;
+    case ProjectionModel::kExtendedUnified:
+      // Basalt's start: alpha 0.5, beta 1 (the unified model with xi = 1); on-axis focal fx.
+      c.projection_params = {0.5, 1.0};
+      break;
+  }
+  return c;
 }
 
 }  // namespace adugs::calib

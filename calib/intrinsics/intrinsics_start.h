@@ -19,7 +19,7 @@
 
 #include <Eigen/Core>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::calib {
@@ -52,7 +52,19 @@ double scoreFocal(const std::vector<const TargetObservation*>& views, Distortion
                   double f, double cu, double cv, double* k1 = nullptr, int threads = 1);
 
 // Views need >= 4 corners. Throws std::invalid_argument for a bad size or no such view.
+// model: the distortion of the pinhole the candidates are scored with (startDistortion).
 FocalStart findFocalStart(const std::vector<const TargetObservation*>& views, int width,
                           int height, DistortionModel model, const FocalStartOptions& options = {});
+
+// The pinhole distortion the focal search scores with for a camera's model: its own for pinhole
+// cameras, equidistant for the wide-angle projections (one coefficient follows a wide lens to
+// 90 degrees; radtan's k1 folds back before it).
+DistortionModel startDistortion(const CalibCamera& model);
+
+// The camera the staged solve starts from, for model's projection and distortion (its values
+// are not used): principal point at the image centre, focal length on the optical axis = the
+// start's focal_px, and the projection's start values (Kalibr's omni xi = 1; Basalt's ds xi -0.2,
+// alpha 0.5 and eucm alpha 0.5, beta 1); pinhole: k1 = the start's first_distortion.
+CalibCamera startCamera(const CalibCamera& model, int width, int height, const FocalStart& start);
 
 }  // namespace adugs::calib

@@ -15,12 +15,8 @@ namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
 
-const char* const kParamNames[2][8] = {{"fu", "fv", "pu", "pv", "k1", "k2", "p1", "p2"},
-                                       {"fu", "fv", "pu", "pv", "k1", "k2", "k3", "k4"}};
+constexpr int kParameters = CalibCamera::kParameters;
 
-const char* paramName(const PinholeCamera& c, int i) {
-  return kParamNames[c.model == DistortionModel::kEquidistant ? 1 : 0][i];
-}
 
 const std::string kMoreViews =
     "more views (30 or more) from different positions: near and far, left and right, above and "
@@ -46,6 +42,19 @@ void readIntrinsicsVerdictOptions(data::YamlOptionsReader& r, IntrinsicsVerdictO
   r.optional("failed_rms_px", o.failed_rms_px, 0.0, 1e6);
   r.optional("failed_focal_rel_sigma", o.failed_focal_rel_sigma, 0.0, 1e6);
   r.optional("coverage_columns", o.coverage_columns, 1, 1000);
+}
+
+DeterminedFocal determinedFocal(const IntrinsicsResult& r, int i) {
+  const CalibCamera& c = r.camera;
+  const size_t k = static_cast<size_t>(i);
+  const bool valley = c.projection == ProjectionModel::kUnified || c.projection == ProjectionModel::kDoubleSphere;
+  if (!valley) return {c.parameterName(i), c.params[k], r.has_sigma ? r.sigma[k] : 0.0};
+  // g = f / s, s = 1 + xi: dg/df = 1 / s, dg/dxi = -f / s^2 (xi is parameter 8).
+  const double s = 1 + c.projection_params[0];
+  const double a = 1 / s, b = -c.params[k] / (s * s);
+  const auto& C = r.covariance;
+  const double var = a * a * C(i, i) + 2 * a * b * C(i, 8) + b * b * C(8, 8);
+  return {c.parameterName(i) + " / (1 + xi)", c.params[k] / s, r.has_sigma ? std::sqrt(std::max(0.0, var)) : 0.0};
 }
 
 IntrinsicsCoverage measureCoverage(const IntrinsicsResult& r, int columns) {
@@ -82,17 +91,16 @@ IntrinsicsCoverage measureCoverage(const IntrinsicsResult& r, int columns) {
   return c;
 }
 
-double distortionFoldRadius(const PinholeCamera& camera) {
-  // Along the radius (the tangential terms are small for any sane lens), in undistorted angle
-  // theta from 0 to 89.5 degrees: the distorted radius must keep growing.
-  const double* d = camera.params.data() + 4;
+double distortionFoldRadius(const CalibCamera& camera) {
+  // Along the x axis (the tangential terms are small for any sane lens), the ray's angle theta
+  // from 0 to 89.5 degrees: the image radius must keep growing (a ray outside the projection's
+  // valid region ends it too).
   double best = 0;
   for (int k = 1; k <= 4000; ++k) {
     const double theta = 89.5 * M_PI / 180 * k / 4000.0;
-    const double x = std::tan(theta);
-    double xd = 0, yd = 0;
-    data::distortPoint(camera.model, d, x, 0.0, xd, yd);
-    const double rd = std::hypot(xd, yd);
+    Eigen::Vector2d uv;
+    if (!camera.project(Eigen::Vector3d(std::sin(theta), 0, std::cos(theta)), uv)) return best;
+    const double rd = std::hypot((uv.x() - camera.pu()) / camera.fu(), (uv.y() - camera.pv()) / camera.fv());
     if (!std::isfinite(rd)) return best;
     if (rd <= best) return best;  // stopped growing: folds here
     best = rd;
@@ -104,7 +112,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
                                     const IntrinsicsVerdictOptions& o) {
   IntrinsicsJudgement j;
   CalibrationVerdict& v = j.verdict;
-  const PinholeCamera& c = r.camera;
+  const CalibCamera& c = r.camera;
   const int w = c.width, h = c.height;
   j.coverage = measureCoverage(r, o.coverage_columns);
 
@@ -117,7 +125,8 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
                     "flat along some parameter",
                     calib.max_iterations),
           kTilt);
-  const bool finite = std::all_of(c.params.begin(), c.params.end(), [](double x) { return std::isfinite(x); });
+  bool finite = true;
+  for (int i = 0; i < kParameters; ++i) finite = finite && std::isfinite(c.parameter(i));
   if (!finite) v.add(Verdict::kFailed, "finite", "the intrinsics are not finite numbers", kMoreViews);
   if (!(std::isfinite(r.rms_px)) || r.corners_used == 0)
     v.add(Verdict::kFailed, "residuals", "no finite reprojection residual", kDetections);
@@ -133,7 +142,7 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
       v.add(Verdict::kFailed, "plausibility",
             strprintf("%s = %.1f px is at the edge of the plausible range [%.0f, %.0f] px "
                       "(%.2g..%.2g x width): the views do not determine it",
-                      paramName(c, i), f, f_lo, f_hi, calib.min_focal_over_width,
+                      c.parameterName(i).c_str(), f, f_lo, f_hi, calib.min_focal_over_width,
                       calib.max_focal_over_width),
             kTilt);
   }
@@ -144,13 +153,15 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
             strprintf("principal point (%.1f, %.1f) is not inside the %dx%d image", c.pu(), c.pv(), w, h),
             kFill);
   }
-  for (int i = 0; i < 2 && finite && r.has_sigma; ++i)
-    if (r.sigma[i] > o.failed_focal_rel_sigma * std::abs(c.params[i]))
+  for (int i = 0; i < 2 && finite && r.has_sigma; ++i) {
+    const DeterminedFocal f = determinedFocal(r, i);
+    if (f.sigma_px > o.failed_focal_rel_sigma * std::abs(f.px))
       v.add(Verdict::kFailed, "undetermined",
             strprintf("%s = %.1f px has a 1-sigma of %.3g px (%.0f %%): the views do not determine "
                       "the focal length at all",
-                      paramName(c, i), c.params[i], r.sigma[i], 100 * r.sigma[i] / std::abs(c.params[i])),
+                      f.name.c_str(), f.px, f.sigma_px, 100 * f.sigma_px / std::abs(f.px)),
             kTilt);
+  }
   if (std::isfinite(r.rms_px) && r.rms_px > o.failed_rms_px)
     v.add(Verdict::kFailed, "residuals",
           strprintf("RMS reprojection error %.2f px > %.3g px", r.rms_px, o.failed_rms_px), kDetections);
@@ -206,50 +217,64 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
     // farthest corner the views cover.
     Eigen::Vector3d ray;
     const bool have_ray = c.unproject(farthest, ray);
-    const PinholeCamera& all = r.camera_all_corners;
-    for (int i = 0; i < 8; ++i) {
+    const CalibCamera& all = r.camera_all_corners;
+    for (int i = 0; i < kParameters; ++i) {
+      if (!c.hasParameter(i)) continue;
       if (r.has_sigma && have_ray) {
-        PinholeCamera moved = c;
-        moved.params[i] += r.sigma[i];
+        CalibCamera moved = c;
+        moved.parameter(i) += r.sigma[i];
         Eigen::Vector2d uv;
         j.sigma_effect_px[i] = moved.project(ray, uv) ? (uv - farthest).norm()
                                                       : std::numeric_limits<double>::infinity();
       }
-      j.rejection_shift[i] = all.width > 0 ? c.params[i] - all.params[i] : 0;
+      j.rejection_shift[i] = all.width > 0 ? c.parameter(i) - all.parameter(i) : 0;
     }
     // Poorly determined by the covariance (formal 1-sigma, poses marginalised).
     for (int i = 0; i < 4 && r.has_sigma; ++i) {
-      const double scale = i < 2 ? std::abs(c.params[i]) : static_cast<double>(w);
+      const DeterminedFocal f = i < 2 ? determinedFocal(r, i) : DeterminedFocal{c.parameterName(i), c.params[i], r.sigma[i]};
+      const double scale = i < 2 ? std::abs(f.px) : static_cast<double>(w);
       const double limit = i < 2 ? o.max_focal_rel_sigma : o.max_principal_point_rel_sigma;
-      if (!(r.sigma[i] / scale > limit)) continue;
+      if (!(f.sigma_px / scale > limit)) continue;
       j.poorly_determined[static_cast<size_t>(i)] = true;
-      poor.push_back(strprintf("%s (1-sigma %.3g px = %.2f %% of %s > %.2f %%)", paramName(c, i),
-                               r.sigma[i], 100 * r.sigma[i] / scale, i < 2 ? "its value" : "the width",
+      poor.push_back(strprintf("%s (1-sigma %.3g px = %.2f %% of %s > %.2f %%)", f.name.c_str(),
+                               f.sigma_px, 100 * f.sigma_px / scale, i < 2 ? "its value" : "the width",
                                100 * limit));
     }
-    if (r.has_sigma && have_ray) {
-      // Jacobian of the projection of the farthest ray w.r.t. the distortion coefficients (central
-      // differences), then the 2x2 covariance of the pixel: largest axis.
-      Eigen::Matrix<double, 2, 4> J = Eigen::Matrix<double, 2, 4>::Zero();
+    // The lens parameters: distortion coefficients and projection parameters (indices 4..9).
+    std::vector<int> lens;
+    for (int i = 4; i < kParameters; ++i)
+      if (c.hasParameter(i)) lens.push_back(i);
+    if (r.has_sigma && have_ray && !lens.empty()) {
+      // Jacobian of the projection of the farthest ray w.r.t. the lens parameters (central
+      // differences), then the 2x2 covariance of the pixel: largest axis. Omni's and ds' xi
+      // trades against the focal length along a valley (determinedFocal): there the focal
+      // lengths join the lens parameters, or the valley would show as an undetermined lens.
+      std::vector<int> joint = lens;
+      if (c.projection == ProjectionModel::kUnified || c.projection == ProjectionModel::kDoubleSphere)
+        joint.insert(joint.begin(), {0, 1});
+      const int m = static_cast<int>(joint.size());
+      Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2, m), C(m, m);
       bool ok = true;
-      for (int i = 0; i < 4 && ok; ++i) {
-        const double step = 1e-6 * std::max(1.0, std::abs(c.params[4 + i]));
-        PinholeCamera plus = c, minus = c;
-        plus.params[4 + i] += step;
-        minus.params[4 + i] -= step;
+      for (int k = 0; k < m && ok; ++k) {
+        const int i = joint[static_cast<size_t>(k)];
+        const double step = 1e-6 * std::max(1.0, std::abs(c.parameter(i)));
+        CalibCamera plus = c, minus = c;
+        plus.parameter(i) += step;
+        minus.parameter(i) -= step;
         Eigen::Vector2d up, um;
         ok = plus.project(ray, up) && minus.project(ray, um);
-        J.col(i) = (up - um) / (2 * step);
+        J.col(k) = (up - um) / (2 * step);
+        for (int l = 0; l < m; ++l) C(k, l) = r.covariance(i, joint[static_cast<size_t>(l)]);
       }
-      const Eigen::Matrix2d P = J * r.covariance.block<4, 4>(4, 4) * J.transpose();
+      const Eigen::Matrix2d P = J * C * J.transpose();
       j.distortion_sigma_px = ok ? std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(P).eigenvalues().maxCoeff()))
                                  : std::numeric_limits<double>::infinity();
       if (j.distortion_sigma_px > o.max_distortion_sigma_px) {
         std::string names;
-        for (int i = 4; i < 8; ++i) {
-          if (c.model != DistortionModel::kEquidistant && r.sigma[i] == 0) continue;
+        for (int i : lens) {
+          if (c.model == DistortionModel::kRadialTangential && i < 8 && r.sigma[i] == 0) continue;
           j.poorly_determined[static_cast<size_t>(i)] = true;
-          names += (names.empty() ? "" : ", ") + std::string(paramName(c, i));
+          names += (names.empty() ? "" : ", ") + c.parameterName(i);
         }
         poor.push_back(strprintf("%s (together, 1-sigma moves the farthest covered corner by %.2f px > "
                                  "%.2f px)",
@@ -265,16 +290,15 @@ IntrinsicsJudgement judgeIntrinsics(const IntrinsicsResult& r, const IntrinsicsO
       for (int i = 0; i < 2; ++i)
         if (!j.poorly_determined[static_cast<size_t>(i)]) {
           j.poorly_determined[static_cast<size_t>(i)] = true;
-          poor.push_back(std::string(paramName(c, i)) + " (the board was seen at one angle)");
+          poor.push_back(c.parameterName(i) + " (the board was seen at one angle)");
         }
     if (j.coverage.image_share < o.min_image_share) {
       std::string names;
-      for (int i = 2; i < 8; ++i) {
-        if (j.poorly_determined[static_cast<size_t>(i)]) continue;
-        if (c.model == DistortionModel::kNone && i >= 4) continue;  // no coefficients to judge
-        if (c.model == DistortionModel::kRadialTangential && i >= 6 && c.params[i] == 0) continue;
+      for (int i = 2; i < kParameters; ++i) {
+        if (j.poorly_determined[static_cast<size_t>(i)] || !c.hasParameter(i)) continue;
+        if (c.model == DistortionModel::kRadialTangential && i >= 6 && i < 8 && c.params[i] == 0) continue;
         j.poorly_determined[static_cast<size_t>(i)] = true;
-        names += (names.empty() ? "" : ", ") + std::string(paramName(c, i));
+        names += (names.empty() ? "" : ", ") + c.parameterName(i);
       }
       if (!names.empty())
         poor.push_back(names + " (extrapolated over the part of the image no corner reached)");

@@ -53,22 +53,36 @@ struct IntrinsicsVerdictOptions {
 // Reads the keys above (unknown keys are InputError; the caller calls finish()).
 void readIntrinsicsVerdictOptions(data::YamlOptionsReader& r, IntrinsicsVerdictOptions& o);
 
-// Where the lens model stops being one-to-one: the largest distorted normalised radius it
-// reaches before the distortion folds back (+infinity when it never does up to ~89 degrees).
-double distortionFoldRadius(const PinholeCamera& camera);
+// Where the lens model stops being one-to-one: the largest normalised image radius
+// |((u - pu) / fu, (v - pv) / fv)| that rays along the x axis reach before the projection folds
+// back or stops (+infinity when it never does up to ~89 degrees off-axis).
+double distortionFoldRadius(const CalibCamera& camera);
+
+// The focal length the corners determine along axis i (0: u, 1: v), with its formal 1-sigma
+// (0 without a covariance): fu, fv for pinhole and EUCM cameras; for omni and ds the focal length
+// on the optical axis, fu / (1 + xi): their xi trades against fu along a flat valley, and the
+// views fix the two only together.
+struct DeterminedFocal {
+  std::string name;  // "fu" or "fu / (1 + xi)"
+  double px = 0;
+  double sigma_px = 0;
+};
+DeterminedFocal determinedFocal(const IntrinsicsResult& result, int axis);
 
 struct IntrinsicsJudgement {
   CalibrationVerdict verdict;
   IntrinsicsCoverage coverage;
-  std::array<bool, 8> poorly_determined{};  // per parameter (fu fv pu pv d0..d3)
+  // Per parameter, CalibCamera::parameter indices (fu fv pu pv d0..d3, then the projection's).
+  std::array<bool, CalibCamera::kParameters> poorly_determined{};
   // 1-sigma of the projection at the farthest corner the views cover [px]: of each parameter
-  // alone, and of the distortion coefficients together (their covariance block: k1..k4 of a
-  // fisheye trade off against each other, one alone says little).
-  std::array<double, 8> sigma_effect_px{};
+  // alone, and of the lens parameters (distortion coefficients and projection parameters)
+  // together (their covariance block: k1..k4 of a fisheye, or xi and alpha of a double sphere,
+  // trade off against each other, one alone says little).
+  std::array<double, CalibCamera::kParameters> sigma_effect_px{};
   double distortion_sigma_px = 0;
-  std::array<double, 8> rejection_shift{};  // final - every-corner solution, per parameter
-                                            // (reported: how much the result rests on the
-                                            // outlier rejection)
+  // final - every-corner solution, per parameter (reported: how much the result rests on the
+  // outlier rejection)
+  std::array<double, CalibCamera::kParameters> rejection_shift{};
 };
 
 // calibration: the options the result was computed with (plausible focal range).

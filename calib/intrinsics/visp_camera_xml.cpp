@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpXmlParserCamera.h>
@@ -16,7 +17,7 @@ namespace adugs::calib {
 namespace {
 
 // kdu for x_u = x_d (1 + kdu r_d^2), fitted over the image diagonal (pixels).
-double fitKdu(const PinholeCamera& c) {
+double fitKdu(const CalibCamera& c) {
   const double k1 = c.params[4];
   double num = 0, den = 0;
   for (int i = 1; i <= 200; ++i) {
@@ -35,9 +36,11 @@ double fitKdu(const PinholeCamera& c) {
 
 }  // namespace
 
-void writeVispCameraXml(const std::string& path, const PinholeCamera& c,
+void writeVispCameraXml(const std::string& path, const CalibCamera& c,
                         const std::string& camera_name, const std::string& note) {
   namespace fs = std::filesystem;
+  if (c.projection != ProjectionModel::kPinhole)
+    throw std::invalid_argument("writeVispCameraXml: ViSP has no " + c.modelName() + " camera");
   const std::string tmp = path + ".visp.tmp";
   std::error_code ec;
   fs::remove(tmp, ec);

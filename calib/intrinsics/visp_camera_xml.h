@@ -9,13 +9,14 @@
 // then exact, and kdu is a least-squares fit of the inverse over the image.
 #include <string>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 
 namespace adugs::calib {
 
 // note: extra text for the XML comment (e.g. the calibration's verdict). Throws
-// data::InputError if the file cannot be written.
-void writeVispCameraXml(const std::string& path, const PinholeCamera& camera,
+// data::InputError if the file cannot be written, std::invalid_argument for a camera that is not
+// pinhole (ViSP 3.5 has no unified, double-sphere or EUCM camera).
+void writeVispCameraXml(const std::string& path, const CalibCamera& camera,
                         const std::string& camera_name = "Camera", const std::string& note = "");
 
 }  // namespace adugs::calib

@@ -42,7 +42,7 @@ void header() {
 }
 
 void run(const std::string& name, const std::vector<TargetObservation>& views,
-         const PinholeCamera& truth) {
+         const CalibCamera& truth) {
   IntrinsicsOptions o;
   o.model = truth.model;
   IntrinsicsResult r;
@@ -53,7 +53,7 @@ void run(const std::string& name, const std::vector<TargetObservation>& views,
     return;
   }
   const IntrinsicsJudgement j = judgeIntrinsics(r, o);
-  const PinholeCamera& c = r.camera;
+  const CalibCamera& c = r.camera;
   double err[4];
   for (int i = 0; i < 4; ++i) err[i] = 100 * (c.params[i] - truth.params[i]) / truth.params[i];
   const double max_dist_sigma = j.distortion_sigma_px;
@@ -81,7 +81,7 @@ std::vector<TargetObservation> pick(const std::vector<TargetObservation>& all,
 }
 
 void runCameraImu(const std::string& name, const std::vector<TargetObservation>& views,
-                  const PinholeCamera& camera, const ImuRecording& imu, const ImuNoiseFigures& noise,
+                  const CalibCamera& camera, const ImuRecording& imu, const ImuNoiseFigures& noise,
                   double gravity, const Eigen::Isometry3d& T_C_I_truth, double shift_truth) {
   CameraImuOptions o;
   o.gravity = gravity;
@@ -223,8 +223,8 @@ int main(int argc, char** argv) {
   const int seeds = quick ? 2 : 5;
   header();
   const AprilGrid grid = synth::eurocGrid();
-  const PinholeCamera euroc = synth::eurocLikeCamera();
-  PinholeCamera cam1 = euroc;  // EuRoC's cam1 (the camera of issue 18's weak case)
+  const CalibCamera euroc = synth::eurocLikeCamera();
+  CalibCamera cam1 = euroc;  // EuRoC's cam1 (the camera of issue 18's weak case)
   cam1.params = {457.587, 456.134, 379.999, 255.238, -0.28368365, 0.07451284, -0.00010473, -3.555e-05};
 
   // Synthetic: well-spread views of several sizes and noise levels.

@@ -19,7 +19,7 @@ namespace adugs::calib::synth {
 
 struct CameraImuRecording {
   AprilGrid grid;
-  PinholeCamera camera = eurocLikeCamera();
+  CalibCamera camera = eurocLikeCamera();
   Eigen::Isometry3d T_C_I = Eigen::Isometry3d::Identity();
   double shift_s = 0;
   std::vector<TargetObservation> views;

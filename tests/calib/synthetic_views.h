@@ -6,13 +6,13 @@
 
 #include <Eigen/Geometry>
 
-#include "calib/pinhole_camera.h"
+#include "calib/calib_camera.h"
 #include "calib/target/aprilgrid.h"
 #include "calib/target/target_observation.h"
 
 namespace adugs::calib::synth {
 
-inline std::vector<TargetObservation> syntheticViews(const PinholeCamera& cam, const AprilGrid& grid,
+inline std::vector<TargetObservation> syntheticViews(const CalibCamera& cam, const AprilGrid& grid,
                                                      int n_views, double noise_px,
                                                      unsigned seed = 7, double near_m = 0.7,
                                                      double far_m = 1.2) {
@@ -55,7 +55,7 @@ inline std::vector<TargetObservation> syntheticViews(const PinholeCamera& cam, c
 // one pose): the board seen nearly face-on (tilt_deg about a fixed axis) at distance_m, its
 // centre offset in the camera frame by (offset_x, offset_y) metres, each view jittered by up to
 // jitter_m and jitter_deg. Corners outside the image are dropped (the board may be cut).
-inline std::vector<TargetObservation> nearStillViews(const PinholeCamera& cam,
+inline std::vector<TargetObservation> nearStillViews(const CalibCamera& cam,
                                                      const AprilGrid& grid, int n_views,
                                                      double noise_px, unsigned seed,
                                                      double distance_m, double tilt_deg,
@@ -94,8 +94,8 @@ inline std::vector<TargetObservation> nearStillViews(const PinholeCamera& cam,
   return views;
 }
 
-inline PinholeCamera eurocLikeCamera() {
-  PinholeCamera c;
+inline CalibCamera eurocLikeCamera() {
+  CalibCamera c;
   c.width = 752;
   c.height = 480;
   c.model = DistortionModel::kRadialTangential;
@@ -103,12 +103,40 @@ inline PinholeCamera eurocLikeCamera() {
   return c;
 }
 
-inline PinholeCamera fisheyeCamera() {
-  PinholeCamera c;
+inline CalibCamera fisheyeCamera() {
+  CalibCamera c;
   c.width = 848;
   c.height = 800;
   c.model = DistortionModel::kEquidistant;
   c.params = {286.18, 286.39, 416.94, 403.27, -0.0029, 0.0379, -0.0367, 0.0066};
+  return c;
+}
+
+// The wide-angle models with Basalt's EuRoC cam0 fits (basalt data/euroc_ds_calib.json,
+// euroc_eucm_calib.json), and an omni camera of the same lens (on-axis focal ~460 px).
+inline CalibCamera wideCamera(ProjectionModel projection) {
+  CalibCamera c;
+  c.width = 752;
+  c.height = 480;
+  c.projection = projection;
+  c.model = DistortionModel::kNone;
+  switch (projection) {
+    case ProjectionModel::kDoubleSphere:
+      c.params = {349.756, 348.725, 365.894, 249.330, 0, 0, 0, 0};
+      c.projection_params = {-0.24096, 0.56700};
+      break;
+    case ProjectionModel::kExtendedUnified:
+      c.params = {460.765, 459.405, 365.894, 249.335, 0, 0, 0, 0};
+      c.projection_params = {0.59034, 1.12747};
+      break;
+    case ProjectionModel::kUnified:
+      c.model = DistortionModel::kRadialTangential;
+      c.params = {874.0, 871.5, 365.9, 249.3, -0.06, 0.02, 0.0005, -0.0003};
+      c.projection_params = {0.9, 0};
+      break;
+    case ProjectionModel::kPinhole:
+      return eurocLikeCamera();
+  }
   return c;
 }
 

@@ -87,7 +87,7 @@ TEST(CalibCli, IntrinsicsFromEurocCornerCsvs) {
 TEST(CalibCli, UndeterminedFocalFailsWithExitThreeAndWritesNothing) {
   REQUIRE_ADUGS();
   test::TempDir tmp("adugs_calib_cli");
-  PinholeCamera cam1 = synth::eurocLikeCamera();
+  CalibCamera cam1 = synth::eurocLikeCamera();
   cam1.params = {457.587, 456.134, 379.999, 255.238, -0.28368365, 0.07451284, -0.00010473, -3.555e-05};
   const AprilGrid grid = synth::eurocGrid();
   fs::create_directories(tmp / "corners");
@@ -119,7 +119,7 @@ TEST(CalibCli, BadInputsFailWithAClearMessage) {
                                " --resolution 752x480 --model kb8 --out " + tmp.path().string(),
                            &out),
             2);
-  EXPECT_NE(out.find("unknown distortion model 'kb8'"), std::string::npos) << out;
+  EXPECT_NE(out.find("unknown camera model 'kb8'"), std::string::npos) << out;
   EXPECT_EQ(test::runAdugs("calib intrinsics --corners " + dir.string() + " --out " +
                                tmp.path().string(),
                            &out),

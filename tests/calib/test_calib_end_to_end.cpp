@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The ray of every pixel (z = 1; NaN where unprojection fails), shared by all views.
-std::vector<Eigen::Vector3d> pixelRays(const PinholeCamera& cam) {
+std::vector<Eigen::Vector3d> pixelRays(const CalibCamera& cam) {
   std::vector<Eigen::Vector3d> rays(static_cast<size_t>(cam.width * cam.height));
   for (int v = 0; v < cam.height; ++v)
     for (int u = 0; u < cam.width; ++u)
@@ -32,7 +32,7 @@ std::vector<Eigen::Vector3d> pixelRays(const PinholeCamera& cam) {
 }
 
 // One image of the board from camera pose T_T_C (camera -> target).
-cv::Mat renderView(const PinholeCamera& cam, const std::vector<Eigen::Vector3d>& rays,
+cv::Mat renderView(const CalibCamera& cam, const std::vector<Eigen::Vector3d>& rays,
                    const RenderedTarget& board, const Eigen::Isometry3d& T_T_C) {
   cv::Mat map_x(cam.height, cam.width, CV_32FC1), map_y(cam.height, cam.width, CV_32FC1);
   for (int v = 0; v < cam.height; ++v)
@@ -86,7 +86,7 @@ std::vector<Eigen::Isometry3d> cameraPoses(const AprilGrid& grid, int n) {
 }
 
 TEST(CalibEndToEnd, RenderedImagesThroughTheCliRecoverTheCamera) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   const AprilGrid grid;  // Kalibr 6x6, 2-bit border
   const RenderedTarget board = renderAprilGridPxPerM(grid, 2500, 0.02);
   test::TempDir tmp("adugs_calib_e2e");

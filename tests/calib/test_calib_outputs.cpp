@@ -16,7 +16,7 @@ namespace adugs::calib {
 namespace {
 
 TEST(KalibrYaml, CamchainHasKalibrKeysAndExactNumbers) {
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   const YAML::Node n = YAML::Load(formatCamchainYaml(cam));
   const YAML::Node c = n["cam0"];
   ASSERT_TRUE(c);
@@ -59,7 +59,7 @@ TEST(VispCameraXml, ViSPReadsBackTheProjection) {
   EXPECT_NE(text.str().find("ViSP cannot express this distortion"), std::string::npos);
 
   // Radial-only radtan: the with-distortion model is written too, kud = k1 exactly.
-  PinholeCamera radial = synth::eurocLikeCamera();
+  CalibCamera radial = synth::eurocLikeCamera();
   radial.params = {400, 400, 320, 240, -0.2, 0, 0, 0};
   radial.width = 640;
   writeVispCameraXml(path, radial);
@@ -72,7 +72,7 @@ TEST(VispCameraXml, ViSPReadsBackTheProjection) {
 }
 
 TEST(CalibrationReport, ReportAndPlotDescribeTheResult) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   const auto views = synth::syntheticViews(truth, AprilGrid{}, 6, 0.2);
   const IntrinsicsResult r = calibrateIntrinsics(views, truth.width, truth.height, {});
   ReportContext ctx;

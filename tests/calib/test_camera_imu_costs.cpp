@@ -80,7 +80,7 @@ std::vector<std::vector<double>> splineBlocks(std::mt19937& rng, bool positions)
 
 TEST(CameraImuCosts, FrameReprojectionJacobiansIncludingTimeOffset) {
   std::mt19937 rng(2);
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   FrameReprojection f{0.021, 20.0, &cam, {}, 1.0};
   f.corners.push_back({Eigen::Vector3d(0.2, 0.3, 0), Eigen::Vector2d(300, 200), 1.0});
   f.corners.push_back({Eigen::Vector3d(0.5, 0.1, 0), Eigen::Vector2d(400, 260), 0.7});
@@ -113,7 +113,7 @@ TEST(CameraImuCosts, FrameReprojectionJacobiansIncludingTimeOffset) {
 // first 3 s), and project() says which corners were behind.
 TEST(CameraImuCosts, CornerBehindTheCameraFailsTheEvaluation) {
   std::mt19937 rng(2);
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   FrameReprojection f{0.021, 20.0, &cam, {}, 1.0};
   f.corners.push_back({Eigen::Vector3d(0.2, 0.3, 0), Eigen::Vector2d(300, 200), 1.0});
   f.corners.push_back({Eigen::Vector3d(0.5, 0.1, 0), Eigen::Vector2d(400, 260), 1.0});
@@ -343,7 +343,7 @@ TEST(CameraImuCosts, AccelMatchesASecondFormulation) {
 
 TEST(CameraImuCosts, FrameReprojectionMatchesASecondFormulation) {
   std::mt19937 rng(9);
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   FrameReprojection f{0.021, 20.0, &cam, {}, 2.0};
   f.corners.push_back({Eigen::Vector3d(0.2, 0.3, 0), Eigen::Vector2d(300, 200), 1.0});
   f.corners.push_back({Eigen::Vector3d(0.5, 0.1, 0), Eigen::Vector2d(400, 260), 0.7});

@@ -14,7 +14,7 @@ namespace {
 
 TEST(CameraImuIo, CamchainImuCamAndImuYamlReadBack) {
   test::TempDir tmp("adugs_cimu_io");
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   CameraImuResult r;
   r.T_C_I.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
   r.T_C_I.translation() = Eigen::Vector3d(0.01, -0.02, 0.03);
@@ -22,7 +22,7 @@ TEST(CameraImuIo, CamchainImuCamAndImuYamlReadBack) {
   const std::string yaml = formatCamchainImuCamYaml(cam, r);
   EXPECT_NE(yaml.find("timeshift_cam_imu: -0.0042\n"), std::string::npos) << yaml;
   test::writeText(tmp / "camchain-imucam.yaml", yaml);
-  const PinholeCamera back = readKalibrCamchain((tmp / "camchain-imucam.yaml").string());
+  const CalibCamera back = readKalibrCamchain((tmp / "camchain-imucam.yaml").string());
   EXPECT_EQ(back.width, 752);
   EXPECT_EQ(back.model, cam.model);
   for (int i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(back.params[i], cam.params[i]);

@@ -15,7 +15,7 @@
 namespace adugs::calib {
 namespace {
 
-void expectWithin(const PinholeCamera& got, const PinholeCamera& truth, double rel) {
+void expectWithin(const CalibCamera& got, const CalibCamera& truth, double rel) {
   for (int i = 0; i < 4; ++i)
     EXPECT_NEAR(got.params[i], truth.params[i], rel * std::abs(truth.params[i]))
         << "param " << i;
@@ -23,8 +23,8 @@ void expectWithin(const PinholeCamera& got, const PinholeCamera& truth, double r
 
 // The calibration's parameter block is the product's camera model (tests/data/test_camera_model
 // checks the maths): same pixels, and unproject says when a fisheye pixel has no z = 1 ray.
-TEST(PinholeCamera, IsTheDataCameraModel) {
-  for (const PinholeCamera& cam : {synth::eurocLikeCamera(), synth::fisheyeCamera()}) {
+TEST(CalibCamera, IsTheDataCameraModel) {
+  for (const CalibCamera& cam : {synth::eurocLikeCamera(), synth::fisheyeCamera()}) {
     const data::CameraModel model(cam.toEuroc());
     for (const Eigen::Vector3d& p :
          {Eigen::Vector3d(0.1, -0.2, 1.0), Eigen::Vector3d(-0.6, 0.5, 0.9)}) {
@@ -45,7 +45,7 @@ TEST(PinholeCamera, IsTheDataCameraModel) {
 }
 
 TEST(IntrinsicsCalibrator, RecoversRadtanFromNoisySyntheticViews) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   const auto views = synth::syntheticViews(truth, AprilGrid{}, 25, 0.2);
   IntrinsicsOptions o;
   const IntrinsicsResult r = calibrateIntrinsics(views, truth.width, truth.height, o);
@@ -60,7 +60,7 @@ TEST(IntrinsicsCalibrator, RecoversRadtanFromNoisySyntheticViews) {
 }
 
 TEST(IntrinsicsCalibrator, RecoversEquidistantFromNoisySyntheticViews) {
-  const PinholeCamera truth = synth::fisheyeCamera();
+  const CalibCamera truth = synth::fisheyeCamera();
   const auto views = synth::syntheticViews(truth, AprilGrid{}, 25, 0.2, 11, 0.35, 0.7);
   IntrinsicsOptions o;
   o.model = DistortionModel::kEquidistant;
@@ -93,7 +93,7 @@ TEST(IntrinsicsCalibrator, RecoversEquidistantFromNoisySyntheticViews) {
 // k2 up to 8e6, exit 0). Now the focal length stays in the plausible range, and the verdict is
 // failed: its 1-sigma is many times the focal length itself (more than 10 %: not determined).
 TEST(IntrinsicsCalibrator, NearStillViewsAreNeverOk) {
-  PinholeCamera cam1 = synth::eurocLikeCamera();  // EuRoC cam1
+  CalibCamera cam1 = synth::eurocLikeCamera();  // EuRoC cam1
   cam1.params = {457.587, 456.134, 379.999, 255.238, -0.28368365, 0.07451284, -0.00010473, -3.555e-05};
   const auto views = synth::nearStillViews(cam1, synth::eurocGrid(), 30, 0.2, 1, 1.1, 0, 0.002, 0.1);
   const IntrinsicsOptions o;
@@ -114,7 +114,7 @@ TEST(IntrinsicsCalibrator, NearStillViewsAreNeverOk) {
 // One pose held for 30 views (board tilted 20 deg): weak, the focal lengths named (documented
 // verdict of a single-pose set; the focal length comes out 1-7 % off over five seeds).
 TEST(IntrinsicsCalibrator, SinglePoseSetIsWeak) {
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   const auto views = synth::nearStillViews(cam, synth::eurocGrid(), 30, 0.3, 3, 1.0, 20, 0, 0);
   const IntrinsicsOptions o;
   const IntrinsicsJudgement j = judgeIntrinsics(calibrateIntrinsics(views, 752, 480, o), o);
@@ -128,7 +128,7 @@ TEST(IntrinsicsCalibrator, SinglePoseSetIsWeak) {
 
 // Exact corners: recovered exactly, nothing rejected (sigma has a floor), verdict ok.
 TEST(IntrinsicsCalibrator, NoiseFreeViewsAreRecoveredExactly) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   const auto views = synth::syntheticViews(truth, AprilGrid{}, 12, 0.0, 9);
   const IntrinsicsOptions o;
   const IntrinsicsResult r = calibrateIntrinsics(views, truth.width, truth.height, o);
@@ -138,7 +138,7 @@ TEST(IntrinsicsCalibrator, NoiseFreeViewsAreRecoveredExactly) {
 }
 
 TEST(IntrinsicsCalibrator, RejectsGrossOutliers) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   auto views = synth::syntheticViews(truth, AprilGrid{}, 15, 0.2, 3);
   int spoiled = 0;
   for (auto& v : views)
@@ -152,7 +152,7 @@ TEST(IntrinsicsCalibrator, RejectsGrossOutliers) {
 }
 
 TEST(IntrinsicsCalibrator, TooFewViewsIsAnInputError) {
-  const PinholeCamera truth = synth::eurocLikeCamera();
+  const CalibCamera truth = synth::eurocLikeCamera();
   auto views = synth::syntheticViews(truth, AprilGrid{}, 2, 0.2);
   IntrinsicsOptions o;
   o.min_views = 3;

@@ -39,7 +39,7 @@ TEST(IntrinsicsStart, FocalFromTheVanishingPointsOfATiltedBoard) {
 
 // Distortion-free views: the score is lowest at the true focal length, and the start finds it.
 TEST(IntrinsicsStart, ScoreIsLowestAtTheTrueFocal) {
-  PinholeCamera cam = synth::eurocLikeCamera();
+  CalibCamera cam = synth::eurocLikeCamera();
   cam.params = {460, 460, 375.5, 239.5, 0, 0, 0, 0};
   const auto views = synth::syntheticViews(cam, AprilGrid{}, 12, 0.2, 5);
   std::vector<const TargetObservation*> v;
@@ -57,7 +57,7 @@ TEST(IntrinsicsStart, ScoreIsLowestAtTheTrueFocal) {
 // A camera held still, board face-on: the homography says 6000-9800 px (the old start; issue
 // 18 saw 8106 px), the start never leaves [0.2, 5] x width.
 TEST(IntrinsicsStart, NearStillFaceOnViewsStayInThePlausibleRange) {
-  const PinholeCamera cam = synth::eurocLikeCamera();
+  const CalibCamera cam = synth::eurocLikeCamera();
   for (unsigned seed = 1; seed <= 2; ++seed) {
     const auto views = synth::nearStillViews(cam, synth::eurocGrid(), 30, 0.2, seed, 1.1, 0, 0.002, 0.1);
     std::vector<const TargetObservation*> v;

@@ -16,7 +16,7 @@ namespace {
 // r_d = r (1 + k1 r^2) with k1 = -0.5 stops growing where 1 - 1.5 r^2 = 0: r = sqrt(2/3),
 // r_d = sqrt(2/3) (1 - 1/3) = 0.5443.
 TEST(IntrinsicsVerdict, DistortionFoldRadiusHandWorked) {
-  PinholeCamera c = synth::eurocLikeCamera();
+  CalibCamera c = synth::eurocLikeCamera();
   c.params = {400, 400, 320, 240, -0.5, 0, 0, 0};
   EXPECT_NEAR(distortionFoldRadius(c), std::sqrt(2.0 / 3) * (2.0 / 3), 2e-3);
   c.params[4] = -0.2834;  // EuRoC: 1 - 0.85 r^2 + 0.37 r^4 > 0 everywhere
@@ -65,7 +65,7 @@ TEST(IntrinsicsVerdict, CoverageAndTiltHandWorked) {
 class JudgedResult : public ::testing::Test {
  protected:
   void SetUp() override {
-    const PinholeCamera truth = synth::eurocLikeCamera();
+    const CalibCamera truth = synth::eurocLikeCamera();
     result_ = calibrateIntrinsics(synth::syntheticViews(truth, AprilGrid{}, 25, 0.2), 752, 480, options_);
     ASSERT_EQ(judgeIntrinsics(result_, options_).verdict.verdict, Verdict::kOk);
   }
