@@ -28,6 +28,19 @@ std::string readAll(const fs::path& p) {
   return s.str();
 }
 
+// A double-sphere lens at half EuRoC's size (Basalt's EuRoC fit, halved): the --camera tests' lens.
+CameraCalibration halfSizeDoubleSphere() {
+  CameraCalibration ds;
+  ds.width = 376, ds.height = 240;
+  ds.fx = 174.85, ds.fy = 174.35, ds.cx = 182.9, ds.cy = 124.5;
+  ds.projection = ProjectionModel::kDoubleSphere;
+  ds.projection_params = {-0.2441, 0.5662};
+  ds.distortion_model = DistortionModel::kNone;
+  ds.distortion = {0, 0, 0, 0};
+  ds.rate_hz = 20;
+  return ds;
+}
+
 SimSequenceOptions smallOptions() {
   SimSequenceOptions o;
   o.scene = "street";
@@ -175,18 +188,7 @@ TEST(SimSequence, HybridRendersAnEquidistantCalibration) {
 // and its written cam0/sensor.yaml reads back as the same camera, so `adugs run` uses it.
 TEST(SimSequence, RendersThroughAGivenDoubleSphereCamera) {
   test::TempDir dir("adugs_sim_ds");
-  CameraCalibration ds;
-  ds.width = 376;
-  ds.height = 240;
-  ds.fx = 174.85;
-  ds.fy = 174.35;
-  ds.cx = 182.9;
-  ds.cy = 124.5;
-  ds.projection = ProjectionModel::kDoubleSphere;
-  ds.projection_params = {-0.2441, 0.5662};
-  ds.distortion_model = DistortionModel::kNone;
-  ds.distortion = {0, 0, 0, 0};
-  ds.rate_hz = 20;
+  const CameraCalibration ds = halfSizeDoubleSphere();
   writeEurocCameraYaml((dir / "ds.yaml").string(), ds);
   SimSequenceOptions o = smallOptions();
   o.duration_s = 0.5;
@@ -228,14 +230,7 @@ TEST(SimSequence, RendersThroughTheFirstCameraOfAKalibrCamchain) {
                   "cam0:\n  camera_model: ds\n  intrinsics: [-0.2441, 0.5662, 174.85, 174.35, 182.9, 124.5]\n"
                   "  distortion_model: none\n  distortion_coeffs: []\n  resolution: [376, 240]\n"
                   "  rostopic: /cam0/image_raw\n");
-  CameraCalibration ds;
-  ds.width = 376, ds.height = 240;
-  ds.fx = 174.85, ds.fy = 174.35, ds.cx = 182.9, ds.cy = 124.5;
-  ds.projection = ProjectionModel::kDoubleSphere;
-  ds.projection_params = {-0.2441, 0.5662};
-  ds.distortion_model = DistortionModel::kNone;
-  ds.distortion = {0, 0, 0, 0};
-  ds.rate_hz = 20;
+  const CameraCalibration ds = halfSizeDoubleSphere();
   writeEurocCameraYaml((dir / "ds.yaml").string(), ds);
   SimSequenceOptions o = smallOptions();
   o.duration_s = 0.2;
