@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "app/commands.h"
 #include "calib/calibration_verdict.h"
@@ -32,6 +31,7 @@
 #include "data/camera_model.h"
 #include "data/formats/atomic_file.h"
 #include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/image_file.h"
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
 #include "data/sources/image_source.h"
@@ -51,10 +51,6 @@ void makeDir(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw data::InputError(dir, 0, "--out", "cannot create folder");
-}
-
-void writePng(const std::string& path, const cv::Mat& image) {
-  if (!cv::imwrite(path, image)) throw data::InputError(path, 0, "", "cannot write PNG");
 }
 
 // A failed verdict: nothing is written; main() prints the reason and exits with code 3. A file
@@ -105,7 +101,7 @@ void runTarget(const TargetArgs& a) {
   if (!parent.empty()) makeDir(parent.string());
   const calib::TargetLayout layout = calib::aprilGridLayout(grid, a.margin_m);
   const calib::RenderedTarget png = calib::renderAprilGrid(grid, a.dpi, a.margin_m);
-  writePng(a.out + ".png", png.image);
+  data::writeImageFile(a.out + ".png", png.image);
   data::writeTextFileAtomically(a.out + ".pdf", calib::aprilGridPdf(layout));
   data::writeTextFileAtomically(a.out + ".yaml", calib::formatAprilGridYaml(grid));
   std::cout << strprintf(
@@ -352,8 +348,8 @@ void runIntrinsics(const IntrinsicsArgs& a) {
   const bool xml = r.camera.projection == data::ProjectionModel::kPinhole;
   if (xml) calib::writeVispCameraXml((out / "camera.xml").string(), r.camera, "Camera", comment);
   data::writeTextFileAtomically((out / "report.txt").string(), report);
-  writePng((out / "residuals.png").string(), calib::renderResidualPlot(r));
-  writePng((out / "coverage.png").string(), calib::renderCoveragePlot(r, judgement));
+  data::writeImageFile((out / "residuals.png").string(), calib::renderResidualPlot(r));
+  data::writeImageFile((out / "coverage.png").string(), calib::renderCoveragePlot(r, judgement));
   data::writeTextFileAtomically((out / "residuals.csv").string(), calib::formatResidualCsv(r));
   if (a.save_corners && !a.images.empty() && !is_chessboard) saveCorners((out / "corners").string(), grid, d);
 
@@ -403,7 +399,7 @@ void runImu(const ImuArgs& a) {
   data::writeTextFileAtomically((out / "imu.yaml").string(),
                                 calib::verdictYamlComment(verdict) + calib::formatImuYaml(f));
   data::writeTextFileAtomically((out / "report.txt").string(), report);
-  writePng((out / "allan.png").string(), calib::renderAllanPlot(r));
+  data::writeImageFile((out / "allan.png").string(), calib::renderAllanPlot(r));
   std::cout << report << "Wrote " << (out / "imu.yaml").string() << ", report.txt, allan.png\n";
   if (verdict.verdict == calib::Verdict::kWeak)
     std::cout << "WARNING: verdict WEAK (see above): record again before relying on these figures\n";
@@ -544,13 +540,13 @@ void runCameraImu(const CameraImuArgs& a) {
   data::writeTextFileAtomically((out / "imu.yaml").string(), imu_yaml);
   data::writeTextFileAtomically((out / "report.txt").string(), report);
   const double rate = sensors.imu.update_rate_hz;
-  writePng((out / "gyro_residuals.png").string(),
+  data::writeImageFile((out / "gyro_residuals.png").string(),
            calib::renderImuResidualPlot(r.gyro_residuals, "Gyroscope residuals (spline - measured)",
                                         "rad/s", sensors.imu.gyro_noise_density * std::sqrt(rate)));
-  writePng((out / "accel_residuals.png").string(),
+  data::writeImageFile((out / "accel_residuals.png").string(),
            calib::renderImuResidualPlot(r.accel_residuals, "Accelerometer residuals (spline - measured)",
                                         "m/s^2", sensors.imu.accel_noise_density * std::sqrt(rate)));
-  writePng((out / "reprojection_histogram.png").string(),
+  data::writeImageFile((out / "reprojection_histogram.png").string(),
            calib::renderReprojectionHistogram(r.corner_errors_px));
   std::cout << report << "Wrote " << (out / "camchain-imucam.yaml").string()
             << ", imu.yaml, report.txt, gyro_residuals.png, accel_residuals.png, "

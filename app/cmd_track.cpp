@@ -26,14 +26,13 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 #include <string>
 
 #include "app/commands.h"
 #include "app/pipeline/overlay_video.h"
 #include "app/run_config.h"
+#include "data/formats/image_file.h"
 #include "data/formats/mot_io.h"
 #include "data/input_error.h"
 #include "data/sources/image_source.h"
@@ -198,7 +197,7 @@ void runTrack(const TrackArgs& a) {
         char name[32];
         std::snprintf(name, sizeof name, "%06d.png", frame);
         const std::string mask_path = (fs::path(a.out_dir) / "masks" / name).string();
-        if (!cv::imwrite(mask_path, mask)) throw data::InputError(mask_path, 0, "", "cannot write");
+        data::writeImageFile(mask_path, mask);
       }
     }
     if (overlay && !image.empty()) {

@@ -20,8 +20,9 @@ MODULE_FLOOR = {"data": 0, "tracking": 1, "vio": 1, "calib": 1, "app": 2}
 # "." is the module's own top level: `base` files every sub-folder may include, the rest (the
 # module's top) may include every sub-folder but no sub-folder includes them.
 ORDER = {
-    "data": (["formats", "device", "sim", "sources"],
-             {"types.h", "input_error.h", "calibration.h", "camera_model.h", "builtin_config.h", "elapsed_time.h"}),
+    "data": (["media", "formats", "device", "sim", "sources"],
+             {"types.h", "input_error.h", "calibration.h", "camera_model.h", "builtin_config.h", "elapsed_time.h",
+              "plugin_module.h"}),
     "tracking": (["detect", "sort", "segment", "eval"],
                  {"box.h", "torchscript_module.h", "torch_plugin.h", "torch_plugin_loader.h"}),
     "vio": (["imu", "frontend", "init", "estimator", "eval"], set()),

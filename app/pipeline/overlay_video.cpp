@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "data/input_error.h"
+#include "data/media/media_loader.h"
 
 namespace adugs::app {
 
@@ -37,21 +38,21 @@ cv::Mat drawOverlay(const cv::Mat& image, const OverlayContent& c) {
 OverlayVideo::OverlayVideo(const std::string& path, double fps) : path_(path), fps_(fps > 0 ? fps : 20) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".avi")
-    fourcc_ = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    fourcc_ = data::fourccCode('M', 'J', 'P', 'G');
   else if (ext == ".mp4")
-    fourcc_ = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    fourcc_ = data::fourccCode('m', 'p', '4', 'v');
   else
     throw data::InputError(path, 0, "--overlay", "the overlay video must end in .avi or .mp4");
 }
 
 void OverlayVideo::write(const cv::Mat& bgr) {
-  if (!writer_.isOpened()) {
+  if (!writer_) {
     const auto parent = std::filesystem::path(path_).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    if (!writer_.open(path_, fourcc_, fps_, bgr.size()) || !writer_.isOpened())
-      throw data::InputError(path_, 0, "--overlay", "OpenCV cannot write this video");
+    writer_.reset(data::requireMediaModule(path_, "--overlay", "overlay videos").open_video_writer(path_, fourcc_, fps_, bgr.size()));
+    if (!writer_) throw data::InputError(path_, 0, "--overlay", "OpenCV cannot write this video");
   }
-  writer_.write(bgr);
+  writer_->write(bgr);
   ++frames_;
 }
 

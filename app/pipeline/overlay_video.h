@@ -3,12 +3,13 @@
 // dynamic mask tinted red, tracked boxes with their ids (thick: detected in this frame, thin:
 // predicted), features kept (green dots) and dropped as dynamic (red crosses), a status line.
 // Used by `adugs run --overlay` and `adugs track --overlay`.
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
+#include "data/media/media_module.h"
 #include "tracking/sort/sort_tracker.h"
 
 namespace adugs::app {
@@ -25,6 +26,7 @@ cv::Mat drawOverlay(const cv::Mat& image, const OverlayContent& content);
 
 // Writes the frames to .avi (MJPG) or .mp4 (mp4v); opens on the first frame (its size). Throws
 // data::InputError naming the file when it cannot be written or the extension is another.
+// OpenCV's video writer is in libadugs_media.so (data/media/media_module.h).
 class OverlayVideo {
  public:
   OverlayVideo(const std::string& path, double fps);
@@ -35,7 +37,7 @@ class OverlayVideo {
   std::string path_;
   double fps_;
   int fourcc_;
-  cv::VideoWriter writer_;
+  std::unique_ptr<data::VideoOutput> writer_;
   int frames_ = 0;
 };
 

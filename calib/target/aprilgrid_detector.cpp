@@ -8,8 +8,6 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <visp3/core/vpImage.h>
-#include <visp3/detection/vpDetectorAprilTag.h>
 
 extern "C" {
 #include <apriltag/apriltag.h>
@@ -38,36 +36,30 @@ int dropDuplicates(std::vector<TagDetection>& tags) {
 
 }  // namespace
 
+// The system AprilTag library for both borders: the standard 1-bit tags and Kalibr's 2-bit ones,
+// whose family is the standard one with the black border one cell wider. Called directly rather
+// than through ViSP's vpDetectorAprilTag, whose module loads OpenCV's image codecs and video I/O
+// (~50 MB) into every adugs process; the tests check both give the same corners.
 struct AprilGridDetector::Impl {
-  int border_bits = 2;
-  // 2-bit border: system apriltag with a widened family.
   apriltag_family_t* family = nullptr;
   apriltag_detector_t* detector = nullptr;
-  // 1-bit border: ViSP.
-  std::unique_ptr<vpDetectorAprilTag> visp;
 
-  Impl(int border, const DetectorOptions& o) : border_bits(border) {
-    if (border_bits == 1) {
-      visp = std::make_unique<vpDetectorAprilTag>(vpDetectorAprilTag::TAG_36h11);
-      visp->setAprilTagQuadDecimate(o.quad_decimate);
-      visp->setAprilTagNbThreads(std::max(1, o.threads));
-    } else {
-      family = tag36h11_create();
-      // The code bits keep their pattern; the black border around them is one cell wider.
-      const int extra = border_bits - 1;
-      family->width_at_border += 2 * extra;
-      family->total_width += 2 * extra;
-      for (uint32_t i = 0; i < family->nbits; ++i) {
-        family->bit_x[i] += extra;
-        family->bit_y[i] += extra;
-      }
-      detector = apriltag_detector_create();
-      apriltag_detector_add_family(detector, family);
-      detector->quad_decimate = o.quad_decimate;
-      detector->nthreads = std::max(1, o.threads);
-      detector->quad_sigma = 0.0f;
-      detector->refine_edges = true;
+  Impl(int border_bits, const DetectorOptions& o) {
+    family = tag36h11_create();
+    // The code bits keep their pattern; the black border around them is wider.
+    const int extra = border_bits - 1;
+    family->width_at_border += 2 * extra;
+    family->total_width += 2 * extra;
+    for (uint32_t i = 0; i < family->nbits; ++i) {
+      family->bit_x[i] += extra;
+      family->bit_y[i] += extra;
     }
+    detector = apriltag_detector_create();
+    apriltag_detector_add_family(detector, family);
+    detector->quad_decimate = o.quad_decimate;
+    detector->nthreads = std::max(1, o.threads);
+    detector->quad_sigma = 0.0f;
+    detector->refine_edges = true;
   }
   ~Impl() {
     if (detector) apriltag_detector_destroy(detector);
@@ -76,23 +68,6 @@ struct AprilGridDetector::Impl {
 
   std::vector<TagDetection> run(const cv::Mat& gray) const {
     std::vector<TagDetection> out;
-    if (visp) {
-      vpImage<unsigned char> image(static_cast<unsigned>(gray.rows),
-                                   static_cast<unsigned>(gray.cols));
-      for (int r = 0; r < gray.rows; ++r)
-        std::copy(gray.ptr<uint8_t>(r), gray.ptr<uint8_t>(r) + gray.cols, image[r]);
-      visp->detect(image);
-      const std::vector<int> ids = visp->getTagsId();
-      for (size_t i = 0; i < visp->getNbObjects(); ++i) {
-        const std::vector<vpImagePoint> polygon = visp->getPolygon(i);
-        if (polygon.size() != 4 || i >= ids.size()) continue;
-        TagDetection t;
-        t.id = ids[i];
-        for (int k = 0; k < 4; ++k) t.corners[k] = {polygon[k].get_u(), polygon[k].get_v()};
-        out.push_back(t);
-      }
-      return out;
-    }
     image_u8_t image{gray.cols, gray.rows, static_cast<int32_t>(gray.step),
                      const_cast<uint8_t*>(gray.ptr<uint8_t>())};
     zarray_t* detections = apriltag_detector_detect(detector, &image);

@@ -2,11 +2,11 @@
 // AprilGrid detection: tag36h11 quads -> ids and corners -> sub-pixel corners -> consistency
 // checks -> corners with their 3-D target points.
 //
-// Backends: a standard tag (1-bit border) goes through ViSP's vpDetectorAprilTag. A Kalibr board
-// (2-bit border, the default) cannot be decoded by it, so it goes through the system apriltag
-// library with a tag36h11 family whose bit grid is widened by one cell on each side. Both return
-// corners in the same order, which is Kalibr's corner numbering (checked in the tests on a real
-// EuRoC image and on rendered boards). Kalibr's corner squares touch the tag corners, which can
+// Quads: the system apriltag library, with the tag36h11 family as it is for standard tags (1-bit
+// border; the same corners as ViSP's vpDetectorAprilTag, checked in the tests on ViSP's AprilTag
+// photo) and with its bit grid widened by one cell on each side for a Kalibr board (2-bit border,
+// the default; ViSP cannot decode those). Corners come in Kalibr's corner numbering (checked in
+// the tests on a real EuRoC image and on rendered boards). Kalibr's corner squares touch the tag corners, which can
 // merge the white gaps into the black blobs and hide quads; a second pass on a slightly dilated
 // image (white grown by one pixel) recovers those tags. Corners are then refined with
 // cv::cornerSubPix on the original image.

@@ -3,10 +3,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "data/formats/atomic_file.h"
 #include "data/formats/csv_reader.h"
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
@@ -24,15 +24,6 @@ void openCsv(std::ofstream& out, const fs::path& p, const char* header) {
   if (!out) throw InputError(p.string(), 0, "", "cannot open for writing");
   out << header << "\n";
   out.flush();
-}
-
-void writePng(const fs::path& final_path, const cv::Mat& image) {
-  // imwrite picks the encoder from the extension, hence ".tmp.png".
-  const fs::path tmp = final_path.parent_path() / (final_path.stem().string() + ".tmp.png");
-  if (!cv::imwrite(tmp.string(), image)) throw InputError(tmp.string(), 0, "", "cannot write image");
-  std::error_code ec;
-  fs::rename(tmp, final_path, ec);
-  if (ec) throw InputError(final_path.string(), 0, "", "cannot rename image: " + ec.message());
 }
 
 }  // namespace
@@ -76,8 +67,8 @@ void AslWriter::writeFrame(int64_t t_ns, const cv::Mat& image, const cv::Mat& ma
   last_frame_t_ = t_ns;
   const std::string name = std::to_string(t_ns) + ".png";
   const fs::path mav(mav_);
-  writePng(mav / "cam0/data" / name, image);
-  if (masks_) writePng(mav / "mask0/data" / name, mask);
+  writeImageFile((mav / "cam0/data" / name).string(), image);
+  if (masks_) writeImageFile((mav / "mask0/data" / name).string(), mask);
   ++frames_;
   cam_csv_ << t_ns << "," << name << "\n";
   cam_csv_.flush();

@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
@@ -111,8 +111,7 @@ SimWalkerSet loadWalkerSet(const std::string& dir) {
       char file[32];
       std::snprintf(file, sizeof file, "frame_%02d.png", k);
       const std::string path = (fs::path(dir) / cycle.name / file).string();
-      const cv::Mat bgra = cv::imread(path, cv::IMREAD_UNCHANGED);
-      if (bgra.empty()) throw InputError(path, 0, "", "missing or unreadable sprite");
+      const cv::Mat bgra = readImageFile(path, ImageRead::kUnchanged);
       if (bgra.type() != CV_8UC4) throw InputError(path, 0, "", "the sprite has no alpha channel (BGRA PNG expected)");
       cycle.frames.push_back(static_cast<int>(set.sprites.size()));
       set.sprites.emplace_back(bgra);

@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "data/formats/csv_reader.h"
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
@@ -119,11 +119,11 @@ bool EurocReader::loadFrame(Frame& f) {
     problem = "image '" + f.path + "' is missing";
   } else if (options_.load_images) {
     try {
-      f.image = cv::imread(f.path, cv::IMREAD_GRAYSCALE);
-    } catch (const cv::Exception&) {
+      f.image = readImageFile(f.path, ImageRead::kGrey);
+    } catch (const InputError& e) {
       f.image.release();
+      problem = std::string("image cannot be decoded: ") + e.what();
     }
-    if (f.image.empty()) problem = "image '" + f.path + "' cannot be decoded (corrupt or not an image)";
   }
   if (!problem.empty()) {
     InputError error(frame_csv_->path(), frame_line_, "filename", problem);

@@ -1,8 +1,8 @@
 #include "data/sources/ground_truth_mask.h"
 
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
@@ -10,8 +10,12 @@ namespace fs = std::filesystem;
 
 cv::Mat loadGroundTruthMask(const std::string& mask_dir, const Frame& frame) {
   const std::string path = (fs::path(mask_dir) / fs::path(frame.path).filename()).string();
-  cv::Mat mask = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (mask.empty()) throw data::InputError(path, 0, "mask", "missing or unreadable dynamic mask (--mask gt)");
+  cv::Mat mask;
+  try {
+    mask = readImageFile(path, ImageRead::kGrey);
+  } catch (const InputError& e) {
+    throw InputError(path, 0, "mask", std::string("missing or unreadable dynamic mask (--mask gt): ") + e.what());
+  }
   if (mask.size() != frame.image.size())
     throw data::InputError(path, 0, "mask",
                            "mask is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) + ", the image " +

@@ -4,11 +4,13 @@
 #include <cctype>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>  // the cv::CAP_PROP_* constants only
 
 #include "data/formats/csv_reader.h"
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
+#include "data/media/media_loader.h"
 
 namespace adugs::data {
 namespace fs = std::filesystem;
@@ -77,18 +79,21 @@ ImageSource::ImageSource(const std::string& path, int every) : path_(path), ever
     if (files_.empty()) throw data::InputError(path, 0, "", "no images found in this folder");
   } else if (fs::is_regular_file(path, ec)) {
     kind_ = "video";
-    if (!video_.open(path)) throw data::InputError(path, 0, "", "cannot open as a video");
+    video_.reset(requireMediaModule(path, "", "video files").open_video_file(path));
+    if (!video_) throw data::InputError(path, 0, "", "cannot open as a video");
   } else {
     throw data::InputError(path, 0, "", "no such image folder or video file");
   }
 }
 
+ImageSource::~ImageSource() = default;
+
 bool ImageSource::next(ImageFrame& frame) {
   if (kind_ == "video") {
     cv::Mat image;
     while (true) {
-      if (!video_.read(image) || image.empty()) return false;
-      const double ms = video_.get(cv::CAP_PROP_POS_MSEC);  // of the frame just read
+      if (!video_->read(image) || image.empty()) return false;
+      const double ms = video_->get(cv::CAP_PROP_POS_MSEC);  // of the frame just read
       const long n = video_frame_++;
       if (n % every_ != 0) continue;
       frame.t_ns = static_cast<int64_t>(ms * 1e6);
@@ -102,8 +107,7 @@ bool ImageSource::next(ImageFrame& frame) {
     if (i % static_cast<size_t>(every_) != 0) continue;
     frame.t_ns = files_[i].first;
     frame.name = files_[i].second;
-    cv::Mat image = cv::imread(frame.name, cv::IMREAD_UNCHANGED);
-    if (image.empty()) throw data::InputError(frame.name, 0, "", "cannot read this image");
+    const cv::Mat image = readImageFile(frame.name, ImageRead::kUnchanged);
     setImages(image, frame);
     return true;
   }
@@ -112,7 +116,7 @@ bool ImageSource::next(ImageFrame& frame) {
 
 size_t ImageSource::sizeHint() const {
   if (kind_ == "video") {
-    const double n = video_.get(cv::CAP_PROP_FRAME_COUNT);
+    const double n = video_->get(cv::CAP_PROP_FRAME_COUNT);
     return n > 0 ? static_cast<size_t>(n) / static_cast<size_t>(every_) : 0;
   }
   return (files_.size() + static_cast<size_t>(every_) - 1) / static_cast<size_t>(every_);

@@ -3,7 +3,8 @@
 //   - an EuRoC/ASL camera folder (data.csv with "#timestamp [ns],filename" + data/),
 //   - a folder of images (png, jpg, jpeg, pgm, ppm, bmp, tif, tiff; sorted by name; a name that
 //     is all digits is taken as the timestamp in ns, otherwise frames are 1 s apart),
-//   - a video file (any format OpenCV reads; timestamps from the stream position).
+//   - a video file (any format OpenCV reads, through libadugs_media.so: data/media/media_module.h;
+//     timestamps from the stream position).
 // Frames come out as 8-bit gray, and as read in 8 bits (BGR or grey, for detectors). Missing or
 // unreadable inputs are InputError.
 #include <cstdint>
@@ -12,9 +13,10 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
 namespace adugs::data {
+
+class VideoInput;
 
 struct ImageFrame {
   int64_t t_ns = 0;
@@ -27,6 +29,7 @@ class ImageSource {
  public:
   // every: keep one frame in N (N >= 1).
   explicit ImageSource(const std::string& path, int every = 1);
+  ~ImageSource();
   // False at the end. An unreadable image file is an InputError.
   bool next(ImageFrame& frame);
   // Number of frames that will come out (videos: estimate from the frame count).
@@ -39,7 +42,7 @@ class ImageSource {
   int every_ = 1;
   std::vector<std::pair<int64_t, std::string>> files_;
   size_t index_ = 0;
-  cv::VideoCapture video_;
+  std::unique_ptr<VideoInput> video_;
   long video_frame_ = 0;
 };
 

@@ -1,8 +1,8 @@
 #include "data/sources/ros_image.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::data {
@@ -72,16 +72,12 @@ cv::Mat decodeRosImage(const sensor_msgs::Image& msg, const std::string& file, c
 
 cv::Mat decodeRosImage(const sensor_msgs::CompressedImage& msg, const std::string& file,
                        const std::string& topic) {
-  cv::Mat image;
-  try {
-    image = cv::imdecode(msg.data, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    image.release();
-  }
+  std::string why;
+  const cv::Mat image = decodeImage(msg.data, ImageRead::kGrey, &why);
   if (image.empty())
     throw InputError(file, 0, "topic " + topic,
                      "compressed image (format '" + msg.format + "', " + std::to_string(msg.data.size()) +
-                         " bytes) cannot be decoded");
+                         " bytes) cannot be decoded: " + why);
   return image;
 }
 

@@ -4,7 +4,8 @@
 //   for 16-bit PNGs), bgr8, rgb8, bgra8, rgba8 (cv::cvtColor's ITU-R 601 luma, the weights
 //   imread uses for colour files). Rows may be padded (step > width * pixel size); big-endian
 //   16-bit data is byte-swapped.
-//   sensor_msgs/CompressedImage: any format imdecode reads (jpeg, png), converted to grey.
+//   sensor_msgs/CompressedImage: PNG or JPEG (others through OpenCV: data/formats/image_file.h),
+//   converted to grey.
 // Anything else is an InputError naming the bag, the topic and the encoding.
 #include <string>
 

@@ -1,6 +1,7 @@
 #pragma once
 // `adugs live --v4l2 /dev/videoN`: any V4L2 camera (webcam, the D435i's colour node as a plain
-// camera), vision only, through OpenCV's V4L2 backend (cv::VideoCapture with cv::CAP_V4L2).
+// camera), vision only, through OpenCV's V4L2 backend (cv::VideoCapture with cv::CAP_V4L2, in
+// libadugs_media.so: data/media/media_module.h).
 // OpenCV rather than ViSP's vpV4l2Grabber: most USB cameras give 640x480 and more at 30 Hz only
 // as MJPEG, which vpV4l2Grabber cannot decode (GREY, RGB24/32, BGR24, YUYV only), and
 // vpV4l2Grabber cannot set the frame rate; OpenCV's backend does both, and reports the driver's
@@ -11,10 +12,10 @@
 // camera that stops delivering (unplugged) ends the source: next() returns false, stopReason()
 // says why. stop() takes effect at the next frame (the driver wait is not interruptible).
 #include <atomic>
+#include <memory>
 #include <string>
 
-#include <opencv2/videoio.hpp>
-
+#include "data/media/media_module.h"
 #include "data/sources/sequence_source.h"
 
 namespace adugs::data {
@@ -45,7 +46,7 @@ class V4l2CameraSource : public data::SequenceSource {
   bool grab(data::Frame* frame);
 
   std::string device_;
-  cv::VideoCapture capture_;
+  std::unique_ptr<VideoInput> capture_;
   int width_ = 0, height_ = 0;
   double fps_ = 0;
   std::string fourcc_;

@@ -252,6 +252,34 @@ TEST(CmdLiveVideo, VideoPlayedAsACameraWritesTheTrackingView) {
   EXPECT_GE(summaryNumber(s, "frames_acquired"), 20);  // 10 Hz for 2 s
 }
 
+// OpenCV's video and image-codec libraries are libadugs_media.so beside the binary, opened only
+// for a video, a webcam or an image format other than PNG/JPEG: without it a video stops before
+// any frame naming the file and the module, while simulating and running a PNG sequence work.
+TEST(CmdLiveVideo, WithoutTheMediaModuleVideosStopAndPngSequencesRun) {
+  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+  ADUGS_REQUIRE_SHARED(video);
+  TempDir out;
+  const std::string without = "ADUGS_MEDIA_MODULE=/nonexistent/libadugs_media.so " + std::string(ADUGS_BINARY);
+  std::string log;
+  EXPECT_EQ(test::runCommand(without + " live --video " + video + " --duration 1 --no-window --out " +
+                                 (out / "video").string(),
+                             &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("vtest.avi"), std::string::npos) << log;
+  EXPECT_NE(log.find("libadugs_media.so"), std::string::npos) << log;
+  ASSERT_EQ(test::runCommand(without + " sim --scene room --level low --duration 5 --seed 2 --out " +
+                                 (out / "seq").string(),
+                             &log),
+            0)
+      << log;
+  ASSERT_EQ(test::runCommand(without + " run -q " + (out / "seq").string() + " --mask gt --out " + (out / "run").string(),
+                             &log),
+            0)
+      << log;
+  EXPECT_GT(csvRows(out / "run/trajectory.tum"), 10u);
+}
+
 TEST(CmdLiveVideo, DetectorMasksThePeopleOfTheVideo) {
   const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
   const auto model = sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";

@@ -4,6 +4,9 @@
 #include <map>
 
 #include <gtest/gtest.h>
+
+#include <visp3/core/vpImage.h>
+#include <visp3/detection/vpDetectorAprilTag.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -73,8 +76,8 @@ TEST(AprilGridDetector, RenderedKalibrBoardThroughAHomography) {
   for (double angle : {0.0, 35.0, 180.0, -100.0}) expectAllCornersAtTruth(grid, angle);
 }
 
-// The same with standard 1-bit tags through ViSP's vpDetectorAprilTag.
-TEST(AprilGridDetector, RenderedStandardBoardThroughViSP) {
+// The same with standard 1-bit tags.
+TEST(AprilGridDetector, RenderedStandardBoard) {
   AprilGrid grid;
   grid.tag_rows = 4;
   grid.tag_cols = 5;
@@ -154,6 +157,34 @@ TEST(AprilGridDetector, VispAprilTagPhotoMatchesItsGroundTruth) {
     ++matched;
   }
   EXPECT_EQ(matched, static_cast<int>(truth.size()));
+}
+
+// The product calls the AprilTag library directly for standard tags too (ViSP's detection module
+// would load OpenCV's image codecs into every process); ViSP's vpDetectorAprilTag, which it used
+// before, is the oracle: the same tags with the same corners on ViSP's photo.
+TEST(AprilGridDetector, StandardTagsAsViSPDetectsThem) {
+  const std::string path = "/usr/share/visp-images-data/ViSP-images/AprilTag/AprilTag.pgm";
+  ADUGS_REQUIRE_SHARED(path);
+  const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  vpImage<unsigned char> image(static_cast<unsigned>(gray.rows), static_cast<unsigned>(gray.cols));
+  for (int r = 0; r < gray.rows; ++r) std::copy(gray.ptr<uint8_t>(r), gray.ptr<uint8_t>(r) + gray.cols, image[r]);
+  vpDetectorAprilTag visp(vpDetectorAprilTag::TAG_36h11);
+  visp.detect(image);
+  std::map<int, std::vector<vpImagePoint>> expected;
+  for (size_t i = 0; i < visp.getNbObjects(); ++i) expected[visp.getTagsId()[i]] = visp.getPolygon(i);
+  ASSERT_GE(expected.size(), 5u);
+
+  AprilGrid standard;
+  standard.border_bits = 1;
+  const std::vector<TagDetection> tags = AprilGridDetector(standard).detectTags(gray);
+  ASSERT_EQ(tags.size(), expected.size());
+  double worst = 0;
+  for (const TagDetection& t : tags) {
+    ASSERT_EQ(expected.count(t.id), 1u) << "id " << t.id << " not found by ViSP";
+    for (int k = 0; k < 4; ++k)
+      worst = std::max(worst, (t.corners[k] - Eigen::Vector2d(expected[t.id][k].get_u(), expected[t.id][k].get_v())).norm());
+  }
+  EXPECT_LT(worst, 0.01) << "px";
 }
 
 std::vector<TagDetection> projectedTags(const AprilGrid& grid, const cv::Matx33d& H) {

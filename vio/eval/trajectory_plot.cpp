@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "data/formats/atomic_file.h"
+#include "data/formats/image_file.h"
 #include "data/input_error.h"
 
 namespace adugs::vio {
@@ -265,14 +265,7 @@ cv::Mat renderEvalPlot(const EvalResult& result, const PlotOptions& options) {
 void writeEvalPlot(const std::string& path, const EvalResult& result, const PlotOptions& options) {
   std::string ext = std::filesystem::path(path).extension().string();
   if (ext.empty()) ext = ".png";
-  std::vector<uchar> bytes;
-  bool encoded = false;
-  try {
-    encoded = cv::imencode(ext, renderEvalPlot(result, options), bytes);
-  } catch (const cv::Exception& e) {
-    throw data::InputError(path, 0, "", "cannot encode the plot as '" + ext + "': " + e.what());
-  }
-  if (!encoded) throw data::InputError(path, 0, "", "cannot encode the plot as '" + ext + "'");
+  const std::vector<uint8_t> bytes = data::encodeImage(ext, renderEvalPlot(result, options), path);
   data::writeTextFileAtomically(path, std::string(bytes.begin(), bytes.end()));
 }
 
