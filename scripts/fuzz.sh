@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, AddressSanitizer + UndefinedBehaviorSanitizer) in build-fuzz
 # and runs each one for a bounded time.
-#   scripts/fuzz.sh [fuzz_csv|fuzz_yaml|fuzz_onnx|fuzz_device ...]
+#   scripts/fuzz.sh [fuzz_csv|fuzz_yaml|fuzz_onnx|fuzz_device|fuzz_image ...]
 #   FUZZ_SECONDS  seconds per target (default 60)      FUZZ_JOBS  build jobs (default 2)
 #   FUZZ_BUILD_DIR (default <repo>/build-fuzz)
 # Fails (exit 1) if a target crashes, throws anything but InputError, trips a sanitizer, leaks or
@@ -15,7 +15,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${FUZZ_BUILD_DIR:-$repo/build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_csv fuzz_yaml fuzz_onnx fuzz_device)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_csv fuzz_yaml fuzz_onnx fuzz_device fuzz_image)
 
 mkdir -p "$build"
 # ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses objects.
@@ -52,6 +52,14 @@ for target in "${targets[@]}"; do
             while IFS= read -r d; do seeds+=("$d"); done < <(find "$ADUGS_THIRD_PARTY_CALIB" -type d)
           fi ;;
     csv) seeds+=("$repo/tests/data/reference") ;;
+    # Real PNGs and JPEGs of every kind opencv-doc has (grey+alpha, RGBA, palette, RGB; JPEG colour
+    # and grey), the small ones: copied into the build folder (the samples folder holds videos too).
+    image) sample_dir=/usr/share/doc/opencv-doc/examples/data
+           mkdir -p "$build/fuzz-seeds-image"
+           for f in mask.png templ.png tmpl.png imageTextN.png pic5.png blox.jpg HappyFish.jpg LinuxLogo.jpg left01.jpg; do
+             [ -f "$sample_dir/$f" ] && cp "$sample_dir/$f" "$build/fuzz-seeds-image/"
+           done
+           seeds+=("$build/fuzz-seeds-image") ;;
   esac
   "$build/tests/fuzz/$target" "${args[@]}" "$work" "${seeds[@]}" >"$log" 2>&1 || rc=$?
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" || true

@@ -7,10 +7,14 @@
 //   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 10 for MobileSAM),
 //   segment_async, camera_motion_compensation, appearance_weight, and the association stages
 //   high_score / low_iou_min / drop_unconfirmed / last_box_association / direction_weight /
-//   direction_frames / recovery
+//   direction_frames / recovery; and the map motion_cue: of the class-free motion cue's options
+//   (tracking/detect/motion_cue.h: cell_px, corner_quality, threshold_px, translation_min_gain,
+//   min_speed, ransac_iterations, group_radius_px, min_points, box_margin), used with --mask
+//   motion or --motion-cue
 #include <cstdint>
 
 #include "data/formats/yaml_options.h"
+#include "tracking/detect/motion_cue.h"
 #include "tracking/segment/mask_refinement.h"
 #include "tracking/sort/sort_tracker.h"
 
@@ -34,6 +38,7 @@ struct DynamicMaskerOptions {
   bool segment_async = true;  // sparse runs on a worker thread (false: inline, reproducible)
   // The caller feeds the gyro's image motion to SORT (compensateCameraMotion) when true.
   bool camera_motion_compensation = false;
+  MotionCueOptions motion_cue;  // the class-free cue's, when it runs (--mask motion, --motion-cue)
 };
 
 // Reads the keys above from `dynamic:` (unknown keys are left for the caller's finish()); errors

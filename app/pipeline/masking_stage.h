@@ -29,9 +29,8 @@ struct MaskingOptions {
   std::string mask_dir;       // the simulator's mav0/mask0/data folder ("" if the sequence has none)
   std::string detector_model, detector_config;  // for the detection stage; darknet .cfg ("" = beside the .weights)
   std::string segmenter = "grabcut", sam_encoder, sam_decoder;
-  tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement (run config's dynamic:)
+  tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement, the motion cue's options (run config's dynamic:)
   bool motion_cue = false;  // --mask detector: the motion cue's boxes beside the detector's (--motion-cue)
-  tracking::MotionCueOptions motion;
 };
 
 // Whether the motion cue prompts the masks: --mask motion, or --mask detector --motion-cue.

@@ -26,8 +26,9 @@
 namespace adugs::data {
 namespace {
 
-// Larger than any camera; a corrupt header asking for more is refused before allocating.
-constexpr uint64_t kMaxImageBytes = uint64_t{1} << 30;
+// Larger than any camera's frame (an 8K 16-bit colour image is 200 MB); a corrupt header asking
+// for more is refused before allocating.
+constexpr uint64_t kMaxImageBytes = uint64_t{512} << 20;
 
 struct ErrorText {
   char text[JMSG_LENGTH_MAX > 256 ? JMSG_LENGTH_MAX : 256] = "";
@@ -105,7 +106,7 @@ bool decodePng(ImageInput& in, ImageRead mode, cv::Mat& out, ErrorText& error) {
   }
   const bool sixteen = mode == ImageRead::kUnchanged && depth == 16;
   const uint64_t bytes = uint64_t{width} * height * static_cast<uint64_t>(channels) * (sixteen ? 2 : 1);
-  if (bytes > kMaxImageBytes) png_error(png, "the header asks for an image larger than 1 GB");
+  if (bytes > kMaxImageBytes) png_error(png, "the header asks for an image larger than 512 MB");
 
   if (depth == 16) {
     if (sixteen)
@@ -223,7 +224,7 @@ bool decodeJpeg(ImageInput& in, ImageRead mode, cv::Mat& out, ErrorText& error) 
   jpeg_start_decompress(&cinfo);
   const int channels = colour ? 3 : 1;
   if (uint64_t{cinfo.output_width} * cinfo.output_height * static_cast<uint64_t>(channels) > kMaxImageBytes) {
-    error.set("the header asks for an image larger than 1 GB");
+    error.set("the header asks for an image larger than 512 MB");
     jpeg_destroy_decompress(&cinfo);
     return false;
   }

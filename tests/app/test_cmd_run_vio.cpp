@@ -103,6 +103,19 @@ TEST(CmdRunVioMotionCue, MasksTheMoversOfTheRoomWithoutAModel) {
   EXPECT_GE(recall, 0.5) << summary;     // 0.75 measured
   EXPECT_GE(precision, 0.4) << summary;  // 0.54 measured
   EXPECT_GT(data::readTrajectory((out / "trajectory.tum").string()).size(), 30u);  // initialised after ~3 s
+  EXPECT_GT(summaryNumber(out / "summary.yaml", "masked_image_fraction"), 0.0);
+
+  // The cue's options come from the run config's dynamic: map (motion_cue:): asking for 1000
+  // moving points per object leaves nothing to mask.
+  TempDir strict;
+  writeText(strict / "cfg.yaml", readFile(kSourceDir + std::string("/data/config/sim.yaml")) +
+                                      "dynamic:\n  motion_cue:\n    min_points: 1000\n");
+  ASSERT_EQ(runAdugs("run -q " + seq.path().string() + " --config " + (strict / "cfg.yaml").string() +
+                         " --mask motion --duration 3 --out " + (strict / "run").string(),
+                     &log),
+            0)
+      << log;
+  EXPECT_EQ(summaryNumber(strict / "run/summary.yaml", "masked_image_fraction"), 0.0);
 }
 
 TEST_F(CmdRunVioSim, MaskOfTheWrongSizeIsAnErrorNamingTheFile) {

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <vector>
 
+#include <zlib.h>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -180,6 +182,17 @@ TEST(ImageFile, BadFilesAreInputErrorsNamingTheFileAndWhy) {
     test::writeText(tmp / "half.jpg", j.substr(0, j.size() / 2));
     EXPECT_NE(errorOf((tmp / "half.jpg").string(), ImageRead::kUnchanged).find("truncated"), std::string::npos);
   }
+  // A header asking for 30000 x 30000 pixels (its CRC recomputed: a valid header): refused
+  // before anything is allocated.
+  std::string huge = bytes;
+  for (const int at : {16, 20}) {
+    const uint32_t side = 30000;
+    for (int k = 0; k < 4; ++k) huge[at + k] = static_cast<char>((side >> (24 - 8 * k)) & 0xff);
+  }
+  const uint32_t crc = static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(huge.data() + 12), 17));
+  for (int k = 0; k < 4; ++k) huge[29 + k] = static_cast<char>((crc >> (24 - 8 * k)) & 0xff);
+  test::writeText(tmp / "huge.png", huge);
+  EXPECT_NE(errorOf((tmp / "huge.png").string()).find("larger than 512 MB"), std::string::npos);
   test::writeText(tmp / "text.png", "this is not an image at all\n");
   EXPECT_NE(errorOf((tmp / "text.png").string()).find("neither PNG nor JPEG"), std::string::npos);
   std::string why;

@@ -179,6 +179,34 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_TRUE(o.sort.observation_centric_recovery);
   EXPECT_TRUE(o.sort.last_box_association);
   EXPECT_TRUE(o.sort.drop_unconfirmed_on_miss);
+  EXPECT_EQ(o.motion_cue.cell_px, MotionCueOptions().cell_px);  // no motion_cue: map: the code's
+
+  data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
+      "motion_cue:\n  cell_px: 32\n  corner_quality: 0.01\n  threshold_px: 2.5\n  translation_min_gain: 0.2\n"
+      "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 4\n  box_margin: 0.2\n",
+      "dynamic.yaml");
+  readDynamicMaskerOptions(cue, &o);
+  cue.finish();
+  EXPECT_EQ(o.motion_cue.cell_px, 32);
+  EXPECT_DOUBLE_EQ(o.motion_cue.corner_quality, 0.01);
+  EXPECT_DOUBLE_EQ(o.motion_cue.threshold_px, 2.5);
+  EXPECT_DOUBLE_EQ(o.motion_cue.translation_min_gain, 0.2);
+  EXPECT_DOUBLE_EQ(o.motion_cue.min_speed, 0.05);
+  EXPECT_EQ(o.motion_cue.ransac_iterations, 50);
+  EXPECT_DOUBLE_EQ(o.motion_cue.group_radius_px, 30);
+  EXPECT_EQ(o.motion_cue.min_points, 4);
+  EXPECT_DOUBLE_EQ(o.motion_cue.box_margin, 0.2);
+  for (const char* text : {"motion_cue:\n  threshold_px: 0\n", "motion_cue:\n  threshhold_px: 2\n"}) {
+    data::YamlOptionsReader wrong = data::YamlOptionsReader::fromString(text, "dynamic.yaml");
+    try {
+      readDynamicMaskerOptions(wrong, &o);
+      wrong.finish();
+      FAIL() << text << " accepted";
+    } catch (const data::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("dynamic.yaml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("thresh"), std::string::npos) << e.what();
+    }
+  }
 
   data::YamlOptionsReader bad = data::YamlOptionsReader::fromString("direction_frames: 0\n", "dynamic.yaml");
   try {

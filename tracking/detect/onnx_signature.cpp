@@ -20,7 +20,7 @@ constexpr uint32_t kNodeOpType = 4;
 constexpr uint32_t kTensorName = 8;
 constexpr uint32_t kValueInfoName = 1, kValueInfoType = 2;
 constexpr uint32_t kTypeTensor = 1, kTensorTypeShape = 2, kShapeDim = 1;
-constexpr uint32_t kDimValue = 1, kDimParam = 2;
+constexpr uint32_t kDimValue = 1;  // 2 is dim_param (a symbolic size): read as unknown
 
 enum WireType : uint32_t { kVarint = 0, kFixed64 = 1, kBytes = 2, kFixed32 = 5 };
 
