@@ -140,6 +140,14 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
   if (s.exact_pixels > 0)  // --mask detector on a sequence with the simulator's exact masks
     out << "dynamic_mask_vs_exact: {recall: " << s.exact_covered / s.exact_pixels
         << ", precision: " << (s.masked_pixels > 0 ? s.exact_covered / s.masked_pixels : 0.0) << "}\n";
+  if (s.exact_pixels > 0 && s.masked_motion + s.masked_detector > 0) {  // both cues: each one's share
+    const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+    out << "dynamic_mask_vs_exact_per_cue: {detector: {recall: " << ratio(s.exact_covered_detector, s.exact_pixels)
+        << ", precision: " << ratio(s.exact_covered_detector, s.masked_detector)
+        << "}, motion: {recall: " << ratio(s.exact_covered_motion, s.exact_pixels)
+        << ", precision: " << ratio(s.exact_covered_motion, s.masked_motion)
+        << "}}  # the mask inside each cue's boxes\n";
+  }
   out << "features_per_frame: " << mean(s.features) << "\n"
       << "command: " << a.command << "\n"
       << "live: " << (r.live ? "true" : "false") << "\n"

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "data/elapsed_time.h"
 #include "data/input_error.h"
 #include "data/sources/ground_truth_mask.h"
@@ -78,6 +80,18 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
     f->exact_pixels = cv::countNonZero(exact);
     f->exact_covered = cv::countNonZero(exact & r.mask);
     f->masked_pixels = cv::countNonZero(r.mask);
+    if (motion_ && f->detections) {
+      // Both cues prompt the one mask: each cue is credited with the mask inside its boxes.
+      cv::Mat motion_boxes = cv::Mat::zeros(r.mask.size(), CV_8UC1), detector_boxes = motion_boxes.clone();
+      for (const tracking::TrackedObject& o : r.objects)
+        cv::rectangle(o.class_id == tracking::kMovingClass ? motion_boxes : detector_boxes, o.box.rect(),
+                      cv::Scalar(255), cv::FILLED);
+      const cv::Mat by_motion = r.mask & motion_boxes, by_detector = r.mask & detector_boxes;
+      f->masked_motion = cv::countNonZero(by_motion);
+      f->exact_covered_motion = cv::countNonZero(exact & by_motion);
+      f->masked_detector = cv::countNonZero(by_detector);
+      f->exact_covered_detector = cv::countNonZero(exact & by_detector);
+    }
   }
   return true;
 }

@@ -36,6 +36,9 @@ struct PipelineFrame {
   // Detector masks scored against the simulator's exact masks (when the sequence has them):
   // pixels of the exact mask, of those covered, and masked in all.
   double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
+  // With both cues (--mask detector --motion-cue): the same, of the mask inside each cue's boxes
+  // (the motion cue's: class tracking::kMovingClass; the detector's: every other class).
+  double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
 
   // Front-end (app/pipeline/frontend_stage.h)
   vio::FrameFeatures features;

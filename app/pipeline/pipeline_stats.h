@@ -30,6 +30,7 @@ struct PipelineStats {
   std::vector<double> frontend_ms, backend_ms, detect_ms, segment_ms, mask_ms, latency_ms;
   std::vector<double> dynamic_drop, masked_fraction, features;
   double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
+  double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
 
   void record(const PipelineFrame& f, double latency) {
     ++frames;
@@ -46,6 +47,10 @@ struct PipelineStats {
       exact_pixels += f.exact_pixels;
       exact_covered += f.exact_covered;
       masked_pixels += f.masked_pixels;
+      exact_covered_motion += f.exact_covered_motion;
+      masked_motion += f.masked_motion;
+      exact_covered_detector += f.exact_covered_detector;
+      masked_detector += f.masked_detector;
     }
   }
 };

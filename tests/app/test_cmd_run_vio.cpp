@@ -151,6 +151,27 @@ TEST_F(CmdRunVioSim, DetectorMasksRunTheWholeDynamicObjectStage) {
   EXPECT_NE(summary.find("masked_image_fraction:"), std::string::npos) << summary;
   // The simulator's exact masks score the detector's: recall and precision of the dynamic pixels.
   EXPECT_NE(summary.find("dynamic_mask_vs_exact: {recall: "), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("dynamic_mask_vs_exact_per_cue"), std::string::npos) << "one cue only:\n" << summary;
+  // With the motion cue beside the detector, each cue's share of the one mask is scored: the
+  // mask inside its boxes, so neither recall can exceed the whole mask's.
+  TempDir both;
+  ASSERT_EQ(runAdugs("run -q " + dir_->path().string() + " --mask detector --motion-cue --segmenter box --detector-model " +
+                         model.string() + " --duration 3 --out " + both.path().string(),
+                     &log),
+            0)
+      << log;
+  const std::string per_cue = readFile(both / "summary.yaml");
+  const double recall = yamlNumberAfter(per_cue, "dynamic_mask_vs_exact: {recall: ");
+  const size_t at = per_cue.find("dynamic_mask_vs_exact_per_cue: {detector: {recall: ");
+  ASSERT_NE(at, std::string::npos) << per_cue;
+  const std::string cues = per_cue.substr(at);
+  const double detector_recall = yamlNumberAfter(cues, "{detector: {recall: ");
+  const double motion_recall = yamlNumberAfter(cues, "motion: {recall: ");
+  EXPECT_GT(motion_recall, 0.0) << cues;  // the street's movers move against the camera's motion
+  for (const double r : {detector_recall, motion_recall}) {
+    EXPECT_GE(r, 0.0) << cues;
+    EXPECT_LE(r, recall + 1e-9) << cues;
+  }
   // Without a model the detector mask is refused with a message naming the option.
   EXPECT_NE(
       runAdugs("run -q " + dir_->path().string() + " --mask detector --out " + out.path().string(),
