@@ -137,6 +137,9 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
       << "  latency_median: " << median(s.latency_ms) << "  # source -> estimated\n"
       << "dynamic_features_dropped_per_frame: " << mean(s.dynamic_drop) << "\n"
       << "masked_image_fraction: " << mean(s.masked_fraction) << "\n";
+  if (usesMotionCue(a.mask.masking))
+    out << "objects_seen_static: " << s.objects_seen_static
+        << "  # tracked objects the motion cue judged static, then not masked (dynamic: static_after_frames)\n";
   if (s.exact_pixels > 0)  // --mask detector on a sequence with the simulator's exact masks
     out << "dynamic_mask_vs_exact: {recall: " << s.exact_covered / s.exact_pixels
         << ", precision: " << (s.masked_pixels > 0 ? s.exact_covered / s.masked_pixels : 0.0) << "}\n";

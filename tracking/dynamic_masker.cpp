@@ -58,7 +58,8 @@ DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResu
   auto t0 = std::chrono::steady_clock::now();
   std::vector<TrackedObject> objects;
   for (const TrackedObject& o : r.objects)
-    if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px) objects.push_back(o);
+    if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px && !static_ids_.count(o.id))
+      objects.push_back(o);
   cv::Mat raw;
   if (sparse_) {
     raw = sparse_->segment(image, objects);

@@ -5,6 +5,7 @@
 // Detection is run by the caller (a tracking/detect/detector.h backend, on the frames
 // isDetectionFrame() names) so that ground-truth or recorded detections can be fed the same way.
 #include <memory>
+#include <set>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -31,6 +32,9 @@ class DynamicMasker {
   void compensateCameraMotion(const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& map) {
     sort_.compensateCameraMotion(map);
   }
+  // Tracked objects (SORT ids) seen static (tracking/object_motion.h): from the next frame on
+  // they are not segmented, so their features are kept. Replaces the previous set.
+  void setStaticObjects(std::set<int64_t> ids) { static_ids_ = std::move(ids); }
   // image: CV_8UC1 or CV_8UC3; detections of this frame in its pixels.
   DynamicMaskResult process(const cv::Mat& image, const std::vector<Detection>& detections);
   // A frame without detections (not a detection frame): the tracked boxes predicted to it.
@@ -47,6 +51,7 @@ class DynamicMasker {
   std::unique_ptr<SparseSegmenter> sparse_;      // sparsely
   SortTracker sort_;
   int frames_since_detection_;  // starts at detect_every: the first frame is detected
+  std::set<int64_t> static_ids_;
 };
 
 }  // namespace adugs::tracking

@@ -36,6 +36,8 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
   d.optional("direction_frames", o.sort.direction_frames, 1, 100);
   d.optional("recovery", o.sort.observation_centric_recovery);
   if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
+  d.optional("static_after_frames", o.object_motion.static_frames, 0, 100000);
+  d.optional("static_min_points", o.object_motion.min_points, 1, 1000);
   if (d.has("motion_cue")) {
     data::YamlOptionsReader m = d.child("motion_cue");
     MotionCueOptions& c = o.motion_cue;

@@ -10,11 +10,13 @@
 //   direction_frames / recovery; and the map motion_cue: of the class-free motion cue's options
 //   (tracking/detect/motion_cue.h: cell_px, corner_quality, threshold_px, translation_min_gain,
 //   min_speed, ransac_iterations, group_radius_px, min_points, box_margin), used with --mask
-//   motion or --motion-cue
+//   motion or --motion-cue; static_after_frames / static_min_points (tracking/object_motion.h:
+//   with the motion cue, a tracked object judged static this many frames is not masked; 0: never)
 #include <cstdint>
 
 #include "data/formats/yaml_options.h"
 #include "tracking/detect/motion_cue.h"
+#include "tracking/object_motion.h"
 #include "tracking/segment/mask_refinement.h"
 #include "tracking/sort/sort_tracker.h"
 
@@ -39,6 +41,7 @@ struct DynamicMaskerOptions {
   // The caller feeds the gyro's image motion to SORT (compensateCameraMotion) when true.
   bool camera_motion_compensation = false;
   MotionCueOptions motion_cue;  // the class-free cue's, when it runs (--mask motion, --motion-cue)
+  ObjectMotionOptions object_motion;  // with the cue: objects seen static keep their features
 };
 
 // Reads the keys above from `dynamic:` (unknown keys are left for the caller's finish()); errors

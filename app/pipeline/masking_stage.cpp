@@ -26,7 +26,10 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
   if (options_.source == MaskSource::kDetector || options_.source == MaskSource::kMotion)
     masker_ = std::make_unique<tracking::DynamicMasker>(
         options_.masker, tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
-  if (usesMotionCue(options_)) motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.masker.motion_cue);
+  if (usesMotionCue(options_)) {
+    motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.masker.motion_cue);
+    object_motion_ = tracking::ObjectMotionClassifier(options_.masker.object_motion);
+  }
 }
 
 MaskingStage::~MaskingStage() = default;
@@ -67,10 +70,17 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   const auto t0 = std::chrono::steady_clock::now();
   const cv::Mat& image = frame.colour.empty() ? frame.image : frame.colour;
   std::vector<tracking::Detection> prompts;
-  if (motion_) prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C);
+  if (motion_) {
+    prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C);
+    masker_->setStaticObjects(object_motion_.staticIds());  // judged up to the previous frame
+  }
   if (f->detections) prompts.insert(prompts.end(), f->detections->begin(), f->detections->end());
   const tracking::DynamicMaskResult r =
       f->detections || motion_ ? masker_->process(image, prompts) : masker_->carry(image);
+  if (motion_) {
+    object_motion_.update(r.objects, motion_->points());
+    f->objects_seen_static = object_motion_.everStatic();
+  }
   f->mask_ms = data::msSince(t0);
   f->mask = r.mask;
   f->masked_fraction = r.masked_fraction;

@@ -61,6 +61,7 @@ class MaskingStage {
   Eigen::Matrix3d R_B_C_;
   std::unique_ptr<tracking::DynamicMasker> masker_;
   std::unique_ptr<tracking::MotionCue> motion_;
+  tracking::ObjectMotionClassifier object_motion_;  // with the cue: which tracked objects stay still
   vio::GyroRotationPredictor gyro_;
   int64_t previous_t_ = -1;
 };

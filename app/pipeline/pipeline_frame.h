@@ -39,6 +39,7 @@ struct PipelineFrame {
   // With both cues (--mask detector --motion-cue): the same, of the mask inside each cue's boxes
   // (the motion cue's: class tracking::kMovingClass; the detector's: every other class).
   double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
+  size_t objects_seen_static = 0;  // with the motion cue: tracked objects judged static so far (not masked)
 
   // Front-end (app/pipeline/frontend_stage.h)
   vio::FrameFeatures features;

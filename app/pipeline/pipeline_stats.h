@@ -31,6 +31,7 @@ struct PipelineStats {
   std::vector<double> dynamic_drop, masked_fraction, features;
   double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
   double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
+  size_t objects_seen_static = 0;
 
   void record(const PipelineFrame& f, double latency) {
     ++frames;
@@ -51,6 +52,7 @@ struct PipelineStats {
       masked_motion += f.masked_motion;
       exact_covered_detector += f.exact_covered_detector;
       masked_detector += f.masked_detector;
+      objects_seen_static = f.objects_seen_static;
     }
   }
 };
