@@ -2,7 +2,8 @@
 
 namespace adugs::tracking {
 
-void ObjectMotionClassifier::update(const std::vector<TrackedObject>& objects, const std::vector<MotionCuePoint>& points) {
+void ObjectMotionClassifier::update(const std::vector<TrackedObject>& objects, const std::vector<MotionCuePoint>& points,
+                                    bool can_confirm_static) {
   std::map<int64_t, State> next;
   for (const TrackedObject& o : objects) {
     State s = states_.count(o.id) ? states_.at(o.id) : State{};
@@ -16,7 +17,7 @@ void ObjectMotionClassifier::update(const std::vector<TrackedObject>& objects, c
     if (moving >= 2 && 3 * moving >= inside) {
       s.moved = true;
       s.static_run = 0;
-    } else if (inside >= options_.min_points) {
+    } else if (can_confirm_static && inside >= options_.min_points) {
       ++s.static_run;
     }
     next[o.id] = s;

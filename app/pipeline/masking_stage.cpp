@@ -78,7 +78,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   const tracking::DynamicMaskResult r =
       f->detections || motion_ ? masker_->process(image, prompts) : masker_->carry(image);
   if (motion_) {
-    object_motion_.update(r.objects, motion_->points());
+    object_motion_.update(r.objects, motion_->points(), !motion_->translating());
     f->objects_seen_static = object_motion_.everStatic();
   }
   f->mask_ms = data::msSince(t0);

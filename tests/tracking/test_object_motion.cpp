@@ -38,16 +38,16 @@ TEST(ObjectMotion, StaticAfterEnoughFramesWithPointsAndNoMotion) {
   const std::vector<TrackedObject> parked = {object(1, 100, 100, 40, 30)};
   for (int k = 1; k <= 10; ++k) {
     EXPECT_EQ(c.state(1), ObjectMotion::kUnknown) << k;
-    c.update(parked, pointsIn(100, 100, 6, 0));
+    c.update(parked, pointsIn(100, 100, 6, 0), true);
   }
   EXPECT_EQ(c.state(1), ObjectMotion::kStatic);
   EXPECT_EQ(c.staticIds(), std::set<int64_t>{1});
   EXPECT_EQ(c.everStatic(), 1u);
   // One noisy moving point among many does not make it move.
-  c.update(parked, pointsIn(100, 100, 12, 1));
+  c.update(parked, pointsIn(100, 100, 12, 1), true);
   EXPECT_EQ(c.state(1), ObjectMotion::kStatic);
   // Forgotten when no longer tracked.
-  c.update({}, {});
+  c.update({}, {}, true);
   EXPECT_EQ(c.state(1), ObjectMotion::kUnknown);
   EXPECT_TRUE(c.staticIds().empty());
   EXPECT_EQ(c.everStatic(), 1u);
@@ -59,18 +59,24 @@ TEST(ObjectMotion, OnceMovingAlwaysMovingAndTooFewPointsStayUnknown) {
   std::vector<MotionCuePoint> points = pointsIn(100, 100, 6, 3);  // object 1 walks
   const std::vector<MotionCuePoint> few = pointsIn(300, 100, 3, 0);  // object 2: too little texture
   points.insert(points.end(), few.begin(), few.end());
-  c.update(objects, points);
+  c.update(objects, points, true);
   EXPECT_EQ(c.state(1), ObjectMotion::kMoving);
-  for (int k = 0; k < 20; ++k) c.update(objects, pointsIn(100, 100, 6, 0));  // then stands still
+  for (int k = 0; k < 20; ++k) c.update(objects, pointsIn(100, 100, 6, 0), true);  // then stands still
   EXPECT_EQ(c.state(1), ObjectMotion::kMoving);  // a person who stops walks on: still masked
   EXPECT_EQ(c.state(2), ObjectMotion::kUnknown);
   // Points outside every box count for none.
   ObjectMotionClassifier d({3, 4});
-  for (int k = 0; k < 5; ++k) d.update({object(3, 100, 100, 10, 10)}, pointsIn(400, 400, 10, 10));
+  for (int k = 0; k < 5; ++k) d.update({object(3, 100, 100, 10, 10)}, pointsIn(400, 400, 10, 10), true);
   EXPECT_EQ(d.state(3), ObjectMotion::kUnknown);
+  // A translating camera cannot confirm that anything stands still.
+  ObjectMotionClassifier moving_camera({3, 4});
+  for (int k = 0; k < 20; ++k) moving_camera.update({object(5, 100, 100, 40, 30)}, pointsIn(100, 100, 6, 0), false);
+  EXPECT_EQ(moving_camera.state(5), ObjectMotion::kUnknown);
+  moving_camera.update({object(5, 100, 100, 40, 30)}, pointsIn(100, 100, 6, 3), false);  // but motion shows
+  EXPECT_EQ(moving_camera.state(5), ObjectMotion::kMoving);
   // static_frames 0: never static.
   ObjectMotionClassifier never({0, 4});
-  for (int k = 0; k < 50; ++k) never.update({object(4, 100, 100, 40, 30)}, pointsIn(100, 100, 6, 0));
+  for (int k = 0; k < 50; ++k) never.update({object(4, 100, 100, 40, 30)}, pointsIn(100, 100, 6, 0), true);
   EXPECT_EQ(never.state(4), ObjectMotion::kUnknown);
 }
 
