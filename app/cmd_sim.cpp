@@ -76,6 +76,9 @@ void registerSimCommand(CLI::App& root) {
   cmd->add_option("--exposure-variation", o.exposure_variation,
                   "relative amplitude of auto-exposure gain changes (e.g. 0.2)")
       ->capture_default_str();
+  cmd->add_option("--vignetting", o.vignetting,
+                  "light lost in the image corner farthest from the principal point (0.3 = 30 % darker), falling off with the squared distance")
+      ->capture_default_str();
   cmd->add_option("--blur-samples", o.blur_samples, "motion blur: renders averaged per frame (1 = off)")
       ->capture_default_str();
   cmd->add_option("--exposure-ms", o.exposure_ms, "motion blur: exposure time [ms]")->capture_default_str();

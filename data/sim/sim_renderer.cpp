@@ -178,6 +178,8 @@ void SimRenderer::render(const SimScene& scene, const SimCameraPoseFn& T_W_C, in
   }
   if (options.exposure_gain != 1.0f && options.static_value < 0 && options.object_value < 0)
     radiance *= options.exposure_gain;
+  if (options.vignetting > 0 && options.static_value < 0 && options.object_value < 0)
+    radiance = radiance.mul(vignette(options.vignetting));  // optics: before the sensor's noise
   if (options.noise_sigma > 0) {
     cv::Mat noise(h, w, CV_32F);
     cv::RNG rng(options.noise_seed * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(t_ns));
@@ -185,6 +187,24 @@ void SimRenderer::render(const SimScene& scene, const SimCameraPoseFn& T_W_C, in
     radiance += noise;
   }
   radiance.convertTo(out->image, CV_8U);  // rounds and saturates
+}
+
+const cv::Mat& SimRenderer::vignette(double strength) {
+  if (vignette_.empty() || vignette_strength_ != strength) {
+    const int w = camera_.width, h = camera_.height;
+    const double cx = camera_.cx, cy = camera_.cy;
+    double r2_max = 0;
+    for (const double x : {0.0, w - 1.0})
+      for (const double y : {0.0, h - 1.0}) r2_max = std::max(r2_max, (x - cx) * (x - cx) + (y - cy) * (y - cy));
+    vignette_.create(h, w, CV_32F);
+    for (int y = 0; y < h; ++y) {
+      float* row = vignette_.ptr<float>(y);
+      for (int x = 0; x < w; ++x)
+        row[x] = static_cast<float>(1.0 - strength * ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / r2_max);
+    }
+    vignette_strength_ = strength;
+  }
+  return vignette_;
 }
 
 void SimRenderer::rasterize(const SimScene& scene, const Eigen::Isometry3d& T_W_C, int64_t t_ns,

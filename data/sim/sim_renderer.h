@@ -25,6 +25,10 @@ namespace adugs::data {
 struct SimRenderOptions {
   float exposure_gain = 1.0f;  // multiplies the rendered radiance (auto-exposure changes)
   double noise_sigma = 0.0;    // additive Gaussian pixel noise [grey levels]; 0 = off
+  // Vignetting: the light lost in the corner farthest from the principal point (0.3 = 30 %
+  // darker there), falling off with the squared distance from it, the leading term of the cos^4
+  // law and of the polynomial vignette models calibrated for real cameras (TUM-VI's). 0 = off.
+  double vignetting = 0.0;
   uint64_t noise_seed = 0;     // noise is deterministic in (noise_seed, frame time)
   // Motion blur: average of blur_samples renders spread over exposure_ns around the frame time
   // (ground truth is for the centre time). 1 = off.
@@ -98,8 +102,12 @@ class SimRenderer {
   void rasterizeQuad(const CamQuad& q, int index, ObjectStats* stats);
   // Shades the winners into radiance (float), adding into acc.
   void shade(const SimScene& scene, const SimRenderOptions& options, cv::Mat& acc) const;
+  // The vignetting factor per pixel for `strength` (cached: the camera does not change).
+  const cv::Mat& vignette(double strength);
 
   SimCamera camera_;
+  cv::Mat vignette_;  // CV_32F factors for vignette_strength_
+  double vignette_strength_ = 0;
   CameraModel model_;                  // camera_.model()
   int n_ = 0;
   std::vector<float> ray_x_, ray_y_;   // undistorted normalised ray (x, y, 1) per pixel; NaN

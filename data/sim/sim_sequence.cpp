@@ -136,7 +136,8 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
   s << "T_B_C: " << matrixYaml(p.T_B_C.matrix()) << "\n";
   s << "imu_noise: " << (isHybrid(o) ? "real" : (o.imu.noise ? "on" : "off")) << "\n";
   s << "pixel_noise_sigma: " << o.pixel_noise_sigma << "\nexposure_variation: " << o.exposure_variation
-    << "\nblur_samples: " << o.blur_samples << "\nexposure_ms: " << o.exposure_ms << "\n";
+    << "\nblur_samples: " << o.blur_samples << "\nexposure_ms: " << o.exposure_ms << "\nvignetting: " << o.vignetting
+    << "\n";
   s << "objects:\n";
   for (const SimObject& obj : scene.objects)
     s << "  - {id: " << obj.id << ", class: " << toString(obj.cls) << ", coco_class: "
@@ -153,6 +154,8 @@ void checkOptions(const SimSequenceOptions& o) {
   if (!(o.camera_rate_hz > 0)) throw InputError("command line", 0, "--rate", "must be positive (Hz)");
   if (!(o.imu.rate_hz > 0)) throw InputError("command line", 0, "--imu-rate", "must be positive (Hz)");
   if (o.blur_samples < 1) throw InputError("command line", 0, "--blur-samples", "must be at least 1");
+  if (!(o.vignetting >= 0 && o.vignetting < 1))
+    throw InputError("command line", 0, "--vignetting", "must be in [0, 1) (the light lost in the farthest corner)");
   const int given = !o.trajectory_path.empty() + !o.imu_path.empty() + !o.calib_path.empty();
   if (given != 0 && given != 3)
     throw InputError("command line", 0, "--trajectory/--imu/--calib", "hybrid mode needs all three files");
@@ -205,6 +208,7 @@ void generateSimSequence(const SimSequenceOptions& o, const std::string& out_roo
 
   SimRenderOptions ropt;
   ropt.noise_sigma = o.pixel_noise_sigma;
+  ropt.vignetting = o.vignetting;
   ropt.noise_seed = o.seed;
   ropt.blur_samples = o.blur_samples;
   ropt.exposure_ns = secToNs(o.exposure_ms * 1e-3);

@@ -36,6 +36,7 @@ struct SimSequenceOptions {
   SimImuOptions imu;  // its seed is replaced by `seed`
   double pixel_noise_sigma = 1.0;   // grey levels
   double exposure_variation = 0.0;  // relative amplitude of slow auto-exposure changes
+  double vignetting = 0.0;          // light lost in the farthest image corner (SimRenderOptions)
   int blur_samples = 1;             // > 1: motion blur over exposure_ms
   double exposure_ms = 0.0;
   // Hybrid mode (all three set): EuRoC ground-truth CSV, EuRoC imu0/data.csv, cam0/sensor.yaml.

@@ -398,6 +398,36 @@ TEST(SimRenderer, WalkerCyclePlaysItsFrames) {
   EXPECT_NEAR(greys[3], 90, 1);
 }
 
+// Vignetting darkens by the squared distance from the principal point: nothing there, the given
+// share in the farthest corner, a quarter of it halfway.
+TEST(SimRenderer, VignettingDarkensTheCornersByItsStrength) {
+  const int64_t t0 = 0;
+  const SineTrajectory traj = makeSceneTrajectory("room", 4, t0, t0 + secToNs(5));
+  const SimScene scene = dynamicScene("room", SimLevel::kNone, traj);
+  const SimCamera camera = SimCamera().scaled(0.5);
+  SimRenderer renderer(camera);
+  SimRenderOptions plain, vignetted;
+  vignetted.vignetting = 0.4;
+  SimFrame a, b;
+  renderer.render(scene, cameraPose(traj, secToNs(2)), secToNs(2), plain, &a);
+  renderer.render(scene, cameraPose(traj, secToNs(2)), secToNs(2), vignetted, &b);
+  cv::Mat fa, fb;
+  a.image.convertTo(fa, CV_32F);
+  b.image.convertTo(fb, CV_32F);
+  // Mean ratio over a small window (8-bit rounding is +-0.5 grey level per pixel).
+  auto ratioAt = [&](double x, double y) {
+    const cv::Rect r(static_cast<int>(x) - 3, static_cast<int>(y) - 3, 7, 7);
+    const cv::Rect inside = r & cv::Rect(0, 0, fa.cols, fa.rows);
+    return cv::sum(fb(inside))[0] / cv::sum(fa(inside))[0];
+  };
+  const double cx = camera.cx, cy = camera.cy;
+  // The farthest corner from the principal point, and the point halfway to it.
+  const double fx = cx < camera.width / 2.0 ? camera.width - 1 : 0, fy = cy < camera.height / 2.0 ? camera.height - 1 : 0;
+  EXPECT_NEAR(ratioAt(cx, cy), 1.0, 0.02);
+  EXPECT_NEAR(ratioAt((cx + fx) / 2, (cy + fy) / 2), 1.0 - 0.4 / 4, 0.03);
+  EXPECT_NEAR(ratioAt(fx - (fx > 0 ? 3 : -3), fy - (fy > 0 ? 3 : -3)), 0.6, 0.03);
+}
+
 TEST(SimRenderer, DeterministicBytes) {
   const int64_t t0 = 0;
   const SineTrajectory traj = makeSceneTrajectory("street", 9, t0, t0 + secToNs(5));
