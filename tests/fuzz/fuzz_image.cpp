@@ -41,13 +41,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool png = size >= 8 && data[0] == 0x89 && data[1] == 'P' && data[2] == 'N' && data[3] == 'G';
   const bool jpeg = size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF;
   if (!png && !jpeg) return 0;
-  // A PNG header asking for a huge image makes the decoder allocate it before finding the data
+  // A header asking for a huge image makes the decoder allocate it before finding the data
   // missing: legitimate (up to 512 MB), but it makes each run slow; small images reach the same code.
   if (png && size >= 24) {
     const uint64_t w = uint64_t{data[16]} << 24 | uint64_t{data[17]} << 16 | uint64_t{data[18]} << 8 | data[19];
     const uint64_t h = uint64_t{data[20]} << 24 | uint64_t{data[21]} << 16 | uint64_t{data[22]} << 8 | data[23];
     if (w * h > (uint64_t{1} << 22)) return 0;
   }
+  // The same for a JPEG frame header (SOF0-SOF15 but DHT, JPG, DAC): any that asks for more.
+  for (size_t i = 0; jpeg && i + 9 <= size; ++i)
+    if (data[i] == 0xFF && data[i + 1] >= 0xC0 && data[i + 1] <= 0xCF && data[i + 1] != 0xC4 &&
+        data[i + 1] != 0xC8 && data[i + 1] != 0xCC) {
+      const uint64_t h = uint64_t{data[i + 5]} << 8 | data[i + 6], w = uint64_t{data[i + 7]} << 8 | data[i + 8];
+      if (w * h > (uint64_t{1} << 22)) return 0;
+    }
   const std::vector<uint8_t> bytes(data, data + size);
   const cv::Mat grey = decode(bytes, ImageRead::kGrey);
   const cv::Mat stored = decode(bytes, ImageRead::kUnchanged);
