@@ -29,6 +29,14 @@ namespace {
 // Larger than any camera's frame (an 8K 16-bit colour image is 200 MB); a corrupt header asking
 // for more is refused before allocating.
 constexpr uint64_t kMaxImageBytes = uint64_t{512} << 20;
+// The ancillary chunks that do not change the pixels adugs reads (the colour-space ones, gAMA,
+// cHRM, sRGB, iCCP, do: libpng converts colour to grey through them, as for OpenCV), as 4-letter
+// names each ended by a zero byte.
+constexpr png_byte kIgnoredPngChunks[] =
+    "bKGD\0eXIf\0hIST\0iTXt\0oFFs\0pCAL\0pHYs\0sCAL\0sPLT\0sTER\0tEXt\0tIME\0zTXt";
+constexpr int kIgnoredPngChunkCount = static_cast<int>(sizeof kIgnoredPngChunks / 5);
+// The largest ICC profile libpng may allocate (real ones are a few kB to a few hundred kB).
+constexpr png_alloc_size_t kMaxPngChunkBytes = 8u << 20;
 
 struct ErrorText {
   char text[JMSG_LENGTH_MAX > 256 ? JMSG_LENGTH_MAX : 256] = "";
@@ -91,6 +99,12 @@ bool decodePng(ImageInput& in, ImageRead mode, cv::Mat& out, ErrorText& error) {
     return false;
   }
   png_set_read_fn(png, &in, pngRead);
+  // libpng allocates a text chunk whole from its length field before reading it: a corrupt
+  // length (up to 2 GB) would be allocated before the read finds the data missing. Skipped
+  // chunks are read through a small buffer instead; the profile of an iCCP chunk is bounded.
+  png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, 0);
+  png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, kIgnoredPngChunks, kIgnoredPngChunkCount);
+  png_set_chunk_malloc_max(png, kMaxPngChunkBytes);
   png_read_info(png, info);
   png_uint_32 width = 0, height = 0;
   int depth = 0, colour = 0;

@@ -200,6 +200,63 @@ TEST(ImageFile, BadFilesAreInputErrorsNamingTheFileAndWhy) {
   EXPECT_NE(why.find("truncated"), std::string::npos) << why;
 }
 
+// A chunk whose length field says 1.8 GB in a file of 60 bytes (what the image fuzzer found):
+// libpng allocates a text chunk whole from that field before reading it, so the decoder must
+// skip such chunks instead. Decoded in a child process, whose peak virtual size starts at its
+// current size at the fork: the allocation would raise it by 1.8 GB even if never touched.
+TEST(ImageFile, ACorruptChunkLengthIsNotAllocated) {
+  const std::vector<uint8_t> small = encodeImage(".png", cv::Mat(16, 16, CV_8UC1, cv::Scalar(7)), "test");
+  std::vector<uint8_t> bytes(small.begin(), small.begin() + 33);  // signature + IHDR chunk
+  const uint8_t chunk[] = {0x70, 0x00, 0x00, 0x00, 'i', 'T', 'X', 't', 'C', 'o', 'm', 'm', 'e', 'n', 't', 0, 0, 0, 0, 0};
+  bytes.insert(bytes.end(), std::begin(chunk), std::end(chunk));
+  TempDir tmp;
+  const fs::path file = tmp / "corrupt_length.png";
+  test::writeText(file, std::string(bytes.begin(), bytes.end()));
+  // The same chunk layout with an honest length decodes: text chunks are skipped, not refused.
+  std::vector<uint8_t> honest(small.begin(), small.begin() + 33);
+  const std::string text = "Comment\0\0\0\0\0made by the test";
+  const uint32_t n = static_cast<uint32_t>(text.size());
+  std::string body = "iTXt" + text;
+  const uint32_t crc = static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size())));
+  const auto bigEndian = [&honest](uint32_t v) {
+    for (int k = 0; k < 4; ++k) honest.push_back(static_cast<uint8_t>(v >> (24 - 8 * k)));
+  };
+  bigEndian(n);
+  honest.insert(honest.end(), body.begin(), body.end());
+  bigEndian(crc);
+  honest.insert(honest.end(), small.begin() + 33, small.end());
+  std::string why;
+  const cv::Mat decoded = decodeImage(honest, ImageRead::kGrey, &why);
+  ASSERT_EQ(decoded.size(), cv::Size(16, 16)) << why;
+  EXPECT_EQ(decoded.at<uint8_t>(5, 5), 7);
+
+  const auto peakVirtualKb = [] {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("VmPeak:", 0) == 0) return std::stol(line.substr(7));
+    return -1L;
+  };
+  test::AdugsProcess child(
+      [&] {
+        const long before = peakVirtualKb();
+        std::string message;
+        try {
+          readImageFile(file.string(), ImageRead::kGrey);
+        } catch (const InputError& e) {
+          message = e.what();
+        }
+        const long grown_mb = (peakVirtualKb() - before) / 1024;
+        std::cerr << "error: '" << message << "', peak virtual size grew by " << grown_mb << " MB\n";
+        if (before < 0) return 3;
+        if (grown_mb >= 256) return 4;
+        return message.find("truncated") != std::string::npos ? 0 : 1;
+      },
+      tmp / "child.log");
+  EXPECT_EQ(child.wait(std::chrono::seconds(120)), 0)
+      << "1: not refused as truncated, 3: no VmPeak, 4: the chunk's length was allocated; the child said: "
+      << test::readFile(tmp / "child.log");
+}
+
 TEST(ImageFile, UnwritableImagesAreInputErrors) {
   TempDir tmp;
   const cv::Mat floats(4, 4, CV_32FC1, cv::Scalar(0.5));
