@@ -214,15 +214,22 @@ void jpegMessage(j_common_ptr info, int level) {
   if (level < 0 && info->err->msg_code == JWRN_JPEG_EOF) reinterpret_cast<JpegErrors*>(info->err)->truncated = true;
 }
 
+// The error manager both directions share; the caller still calls setjmp (it must be the frame
+// the longjmp returns to).
+jpeg_error_mgr* jpegErrorManager(JpegErrors& errors, ErrorText& error) {
+  jpeg_error_mgr* manager = jpeg_std_error(&errors.manager);
+  manager->error_exit = jpegError;
+  manager->emit_message = jpegMessage;
+  errors.error = &error;
+  errors.truncated = false;
+  return manager;
+}
+
 // cv::imread's choices: grey is libjpeg's luminance output, colour its BGR output.
 bool decodeJpeg(ImageInput& in, ImageRead mode, cv::Mat& out, ErrorText& error) {
   jpeg_decompress_struct cinfo;
   JpegErrors errors;
-  cinfo.err = jpeg_std_error(&errors.manager);
-  errors.manager.error_exit = jpegError;
-  errors.manager.emit_message = jpegMessage;
-  errors.error = &error;
-  errors.truncated = false;
+  cinfo.err = jpegErrorManager(errors, error);
   if (setjmp(errors.jump)) {
     jpeg_destroy_decompress(&cinfo);
     return false;
@@ -264,10 +271,7 @@ struct JpegOutput {
 bool encodeJpeg(const cv::Mat& image, JpegOutput& output, ErrorText& error) {
   jpeg_compress_struct cinfo;
   JpegErrors errors;
-  cinfo.err = jpeg_std_error(&errors.manager);
-  errors.manager.error_exit = jpegError;
-  errors.error = &error;
-  errors.truncated = false;
+  cinfo.err = jpegErrorManager(errors, error);
   if (setjmp(errors.jump)) {
     jpeg_destroy_compress(&cinfo);
     return false;
