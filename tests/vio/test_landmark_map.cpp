@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/vio/jacobian_check.h"
+#include "vio/estimator/gyro_at_rest_factor.h"
 #include "vio/estimator/landmark_map.h"
 #include "vio/estimator/scalar_prior_factor.h"
 #include "vio/estimator/zero_velocity_factor.h"
@@ -118,6 +121,33 @@ TEST(ZeroVelocityFactor, ResidualAndJacobian) {
   EXPECT_NEAR(r[2], 0.5, 1e-12);
   const auto check = testing::checkJacobians(f, {sb}, {nullptr});
   EXPECT_TRUE(check.ok) << check.report;
+}
+
+TEST(GyroAtRestFactor, ResidualAndJacobian) {
+  GyroAtRestFactor f(Eigen::Vector3d(0.002, 0.021, 0.078), Eigen::Vector3d(0.001, 0.002, 0.004));
+  double sb[9] = {0.02, -0.01, 0.005, 0.1, 0.2, 0.3, 0.004, 0.017, 0.078};
+  const double* params[] = {sb};
+  double r[3];
+  ASSERT_TRUE(f.Evaluate(params, r, nullptr));
+  EXPECT_NEAR(r[0], 2.0, 1e-12);   // (0.004 - 0.002) / 0.001
+  EXPECT_NEAR(r[1], -2.0, 1e-12);  // (0.017 - 0.021) / 0.002
+  EXPECT_NEAR(r[2], 0.0, 1e-12);
+  const auto check = testing::checkJacobians(f, {sb}, {nullptr});
+  EXPECT_TRUE(check.ok) << check.report;
+}
+
+// Hand-worked: x rates 0.01 and 0.03 rad/s (mean 0.02, sample std 0.0141421) against a white
+// noise of 1e-4 * sqrt(200) = 0.00141421 per sample; y and z constant (the white noise wins).
+TEST(GyroAtRestFactor, MeanAndStandardErrorOfTheRatesAtRest) {
+  Eigen::Vector3d mean, sigma;
+  ASSERT_TRUE(gyroMeanAtRest({Eigen::Vector3d(0.01, 0.5, -0.2), Eigen::Vector3d(0.03, 0.5, -0.2)}, 200.0, 1e-4,
+                             &mean, &sigma));
+  EXPECT_NEAR(mean.x(), 0.02, 1e-15);
+  EXPECT_NEAR(mean.y(), 0.5, 1e-15);
+  EXPECT_NEAR(sigma.x(), 0.0141421356 / std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(sigma.y(), 1e-4 * std::sqrt(200.0) / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(sigma.z(), sigma.y(), 1e-15);
+  EXPECT_FALSE(gyroMeanAtRest({Eigen::Vector3d::Zero()}, 200.0, 1e-4, &mean, &sigma)) << "one sample has no spread";
 }
 
 TEST(ScalarPriorFactor, ResidualAndJacobian) {

@@ -32,6 +32,8 @@ struct EstimatorOptions {
   // Zero-velocity updates while stationary (see zero_velocity_factor.h).
   bool zero_velocity_updates = true;
   double zero_velocity_sigma = 0.01;  // m/s
+  // With them, the gyro bias held at the mean rate measured at rest (gyro_at_rest_factor.h).
+  bool gyro_bias_at_rest = true;
   double stationary_parallax_px = 1.0;
   // Failure detection: a reset and re-initialisation instead of a diverged state.
   double max_accel_bias = 2.5;     // m/s^2

@@ -15,6 +15,7 @@
 #include "vio/estimator/reprojection_factor.h"
 #include "vio/estimator/scalar_prior_factor.h"
 #include "vio/estimator/window_solver.h"
+#include "vio/estimator/gyro_at_rest_factor.h"
 #include "vio/estimator/zero_velocity_factor.h"
 #include "vio/imu/so3.h"
 #include "vio/init/static_initializer.h"
@@ -164,6 +165,18 @@ bool SlidingWindowEstimator::isStationary() const {
   return initializeStatic(window, parallax_px, options_.static_init).stationary;
 }
 
+void SlidingWindowEstimator::measureGyroAtRest() {
+  if (frames_.size() < 2) return;
+  Frame& newest = *frames_.back();
+  const int64_t from = frames_[frames_.size() - 2]->imuTimeNs(), to = newest.imuTimeNs();
+  std::vector<Eigen::Vector3d> rates;
+  for (const data::ImuSample& s : imu_)
+    if (s.t_ns > from && s.t_ns <= to) rates.push_back(s.gyro);
+  const double rate_hz = rates.size() / std::max(1e-9, data::nsToSec(to - from));
+  newest.has_gyro_at_rest = gyroMeanAtRest(rates, rate_hz, imu_options_.gyro_noise_density,
+                                           &newest.gyro_at_rest_mean, &newest.gyro_at_rest_sigma);
+}
+
 bool SlidingWindowEstimator::tryInitialize() {
   Frame& newest = *frames_.back();
   if (newest.stationary) {
@@ -305,7 +318,10 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   else
     landmarks_.addFrame(newest, features);  // velocities unused
   frames_.back()->stationary = isStationary();
-  if (frames_.back()->stationary) settled_since_ns_ = features.t_ns;
+  if (frames_.back()->stationary) {
+    settled_since_ns_ = features.t_ns;
+    measureGyroAtRest();
+  }
 
   bool just_initialized = false;
   if (!initialized_) {
@@ -397,6 +413,10 @@ void SlidingWindowEstimator::solve() {
       if (f->stationary) {
         costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
         solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
+        if (options_.gyro_bias_at_rest && f->has_gyro_at_rest) {
+          costs.push_back(std::make_unique<GyroAtRestFactor>(f->gyro_at_rest_mean, f->gyro_at_rest_sigma));
+          solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
+        }
       }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   int used = 0;
@@ -636,6 +656,10 @@ void SlidingWindowEstimator::marginalizeOldest() {
   if (options_.zero_velocity_updates && oldest.stationary) {
     costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
+    if (options_.gyro_bias_at_rest && oldest.has_gyro_at_rest) {
+      costs.push_back(std::make_unique<GyroAtRestFactor>(oldest.gyro_at_rest_mean, oldest.gyro_at_rest_sigma));
+      m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
+    }
   }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   for (auto& [id, l] : landmarks_.landmarks()) {

@@ -109,6 +109,9 @@ class SlidingWindowEstimator {
     std::shared_ptr<ImuPreintegration> imu;  // from the previous window frame (null for the first)
     FrameFeatures features;                  // kept for the visual-inertial initialisation
     bool stationary = false;
+    bool has_gyro_at_rest = false;       // stationary, with the gyro mean over its IMU interval:
+    Eigen::Vector3d gyro_at_rest_mean;   // the bias it measured (gyro_at_rest_factor.h)
+    Eigen::Vector3d gyro_at_rest_sigma;
     int64_t imuTimeNs() const { return t_ns + data::secToNs(td); }
     Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
     Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
@@ -128,6 +131,8 @@ class SlidingWindowEstimator {
                                                   const Eigen::Vector3d& bg) const;
   data::ImuSample imuAt(int64_t t_ns) const;
   bool isStationary() const;
+  // For a stationary newest frame: its gyro mean over the IMU interval since the previous frame.
+  void measureGyroAtRest();
   // Longest spacing of the IMU samples covering [from_ns, to_ns], ends included.
   int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
