@@ -33,7 +33,7 @@ struct EstimatorOptions {
   bool zero_velocity_updates = true;
   double zero_velocity_sigma = 0.01;  // m/s
   // With them, the gyro bias held at the mean rate measured at rest (gyro_at_rest_factor.h).
-  bool gyro_bias_at_rest = true;
+  bool gyro_bias_at_rest = false;  // off until the TUM-VI fisheye reset it causes is understood
   double stationary_parallax_px = 1.0;
   // Failure detection: a reset and re-initialisation instead of a diverged state.
   double max_accel_bias = 2.5;     // m/s^2
