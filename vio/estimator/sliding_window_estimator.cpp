@@ -9,13 +9,13 @@
 #include <unordered_map>
 
 #include "data/elapsed_time.h"
+#include "vio/estimator/gyro_at_rest_factor.h"
 #include "vio/estimator/imu_factor.h"
 #include "vio/estimator/pose_manifold.h"
 #include "vio/estimator/pose_prior_factor.h"
 #include "vio/estimator/reprojection_factor.h"
 #include "vio/estimator/scalar_prior_factor.h"
 #include "vio/estimator/window_solver.h"
-#include "vio/estimator/gyro_at_rest_factor.h"
 #include "vio/estimator/zero_velocity_factor.h"
 #include "vio/imu/so3.h"
 #include "vio/init/static_initializer.h"
@@ -320,7 +320,7 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   frames_.back()->stationary = isStationary();
   if (frames_.back()->stationary) {
     settled_since_ns_ = features.t_ns;
-    measureGyroAtRest();
+    if (options_.gyro_bias_at_rest) measureGyroAtRest();
   }
 
   bool just_initialized = false;
