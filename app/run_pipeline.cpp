@@ -101,8 +101,12 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
     if (std::isfinite(guard_s))
       out << "solver_time_guard_s: " << guard_s << "\n";
     else
-      out << "solver_time_guard_s: none  # playback: every solve runs to max_iterations, whatever the load\n";
+      out << "solver_time_guard_s: none  # playback: no time limit on a solve, whatever the load\n";
     out << "solves_cut_by_time: " << es.solves_cut_by_time << "\n";
+    const double per_solve = 1.0 / std::max(1, es.solves);
+    out << "solver_steps_per_solve: " << es.solver_iterations * per_solve << "  # tried, of which accepted "
+        << es.solver_successful * per_solve << "; at most max_iterations (" << estimator->options().max_iterations
+        << "), fewer when converged\n";
     const Eigen::Isometry3d& T = estimator->extrinsic();
     const Eigen::Isometry3d& T0 = sequence.camera.T_B_C;
     const Eigen::Quaterniond q(T.rotation());

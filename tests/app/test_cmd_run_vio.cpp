@@ -331,6 +331,10 @@ TEST_F(CmdRunVioSim, ThreadedPipelineIsDeterministic) {
   EXPECT_NE(readFile(a / "summary.yaml").find("threads: 5"), std::string::npos);
   EXPECT_EQ(summaryText(a / "summary.yaml", "solver_time_guard_s").rfind("none  #", 0), 0u);
   EXPECT_EQ(summaryText(a / "summary.yaml", "solves_cut_by_time"), "0");
+  // Steps per solve: at least one, at most max_iterations (8 by default).
+  const double steps = std::stod(summaryText(a / "summary.yaml", "solver_steps_per_solve"));
+  EXPECT_GE(steps, 1.0);
+  EXPECT_LE(steps, 8.0);
 }
 
 // A corrupt image half-way: the front-end thread's error reaches the user (file named, exit 2)

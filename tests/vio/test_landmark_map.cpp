@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "tests/vio/jacobian_check.h"
-#include "vio/estimator/gyro_at_rest_factor.h"
+#include "vio/estimator/bias_prior_factor.h"
 #include "vio/estimator/landmark_map.h"
 #include "vio/estimator/scalar_prior_factor.h"
 #include "vio/estimator/zero_velocity_factor.h"
@@ -123,8 +123,9 @@ TEST(ZeroVelocityFactor, ResidualAndJacobian) {
   EXPECT_TRUE(check.ok) << check.report;
 }
 
-TEST(GyroAtRestFactor, ResidualAndJacobian) {
-  GyroAtRestFactor f(Eigen::Vector3d(0.002, 0.021, 0.078), Eigen::Vector3d(0.001, 0.002, 0.004));
+TEST(BiasPriorFactor, GyroResidualAndJacobian) {
+  BiasPriorFactor f(BiasPriorFactor::Bias::kGyro, Eigen::Vector3d(0.002, 0.021, 0.078),
+                    Eigen::Vector3d(0.001, 0.002, 0.004));
   double sb[9] = {0.02, -0.01, 0.005, 0.1, 0.2, 0.3, 0.004, 0.017, 0.078};
   const double* params[] = {sb};
   double r[3];
@@ -138,7 +139,20 @@ TEST(GyroAtRestFactor, ResidualAndJacobian) {
 
 // Hand-worked: x rates 0.01 and 0.03 rad/s (mean 0.02, sample std 0.0141421) against a white
 // noise of 1e-4 * sqrt(200) = 0.00141421 per sample; y and z constant (the white noise wins).
-TEST(GyroAtRestFactor, MeanAndStandardErrorOfTheRatesAtRest) {
+TEST(BiasPriorFactor, AccelResidualAndJacobian) {
+  BiasPriorFactor f(BiasPriorFactor::Bias::kAccel, Eigen::Vector3d(0.1, -0.2, 0.05), Eigen::Vector3d(0.05, 0.05, 0.1));
+  double sb[9] = {0.02, -0.01, 0.005, 0.2, -0.2, 0.0, 0.004, 0.017, 0.078};
+  const double* params[] = {sb};
+  double r[3];
+  ASSERT_TRUE(f.Evaluate(params, r, nullptr));
+  EXPECT_NEAR(r[0], 2.0, 1e-12);   // (0.2 - 0.1) / 0.05
+  EXPECT_NEAR(r[1], 0.0, 1e-12);
+  EXPECT_NEAR(r[2], -0.5, 1e-12);  // (0 - 0.05) / 0.1
+  const auto check = testing::checkJacobians(f, {sb}, {nullptr});
+  EXPECT_TRUE(check.ok) << check.report;
+}
+
+TEST(GyroAtRest, MeanAndStandardErrorOfTheRatesAtRest) {
   Eigen::Vector3d mean, sigma;
   ASSERT_TRUE(gyroMeanAtRest({Eigen::Vector3d(0.01, 0.5, -0.2), Eigen::Vector3d(0.03, 0.5, -0.2)}, 200.0, 1e-4,
                              &mean, &sigma));

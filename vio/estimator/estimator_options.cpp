@@ -22,6 +22,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("zero_velocity_updates", o->zero_velocity_updates);
   r.optional("zero_velocity_sigma", o->zero_velocity_sigma, 1e-5, 10.0);
   r.optional("gyro_bias_at_rest", o->gyro_bias_at_rest);
+  r.optional("static_init_accel_bias_sigma", o->static_init_accel_bias_sigma, 0.0, 10.0);
   r.optional("stationary_parallax_px", o->stationary_parallax_px, 0.0, 100.0);
   r.optional("max_accel_bias", o->max_accel_bias, 0.01, 100.0);
   r.optional("max_gyro_bias", o->max_gyro_bias, 0.001, 100.0);

@@ -32,8 +32,11 @@ struct EstimatorOptions {
   // Zero-velocity updates while stationary (see zero_velocity_factor.h).
   bool zero_velocity_updates = true;
   double zero_velocity_sigma = 0.01;  // m/s
-  // With them, the gyro bias held at the mean rate measured at rest (gyro_at_rest_factor.h).
-  bool gyro_bias_at_rest = false;  // off until the TUM-VI fisheye reset it causes is understood
+  // With them, the gyro bias held at the mean rate measured at rest (bias_prior_factor.h).
+  bool gyro_bias_at_rest = true;
+  // At a static initialisation the accelerometer bias is held where it was found with this sigma
+  // (m/s^2; 0 = free): at rest the tilt and the horizontal bias are one unknown (bias_prior_factor.h).
+  double static_init_accel_bias_sigma = 0.05;
   double stationary_parallax_px = 1.0;
   // Failure detection: a reset and re-initialisation instead of a diverged state.
   double max_accel_bias = 2.5;     // m/s^2

@@ -9,7 +9,7 @@
 #include <unordered_map>
 
 #include "data/elapsed_time.h"
-#include "vio/estimator/gyro_at_rest_factor.h"
+#include "vio/estimator/bias_prior_factor.h"
 #include "vio/estimator/imu_factor.h"
 #include "vio/estimator/pose_manifold.h"
 #include "vio/estimator/pose_prior_factor.h"
@@ -192,6 +192,12 @@ bool SlidingWindowEstimator::tryInitialize() {
       setSpeedBias(Eigen::Vector3d::Zero(), r.accel_bias, r.gyro_bias, f->speed_bias);
       if (f->imu) f->imu->repropagate(r.accel_bias, r.gyro_bias);
     }
+    if (options_.static_init_accel_bias_sigma > 0) {
+      // At rest tilt and horizontal accelerometer bias are one unknown: hold the bias where the
+      // initialisation put it (bias_prior_factor.h); marginalised with this frame into the prior.
+      frames_.front()->has_accel_bias_prior = true;
+      frames_.front()->accel_bias_prior = r.accel_bias;
+    }
     stats_.init_kind = "static";
     if (!dead_reckoned_.empty()) continueFromDeadReckoning();
     return true;
@@ -367,6 +373,11 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   return state;
 }
 
+std::unique_ptr<ceres::CostFunction> SlidingWindowEstimator::accelBiasPrior(const Frame& f) const {
+  return std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kAccel, f.accel_bias_prior,
+                                           Eigen::Vector3d::Constant(options_.static_init_accel_bias_sigma));
+}
+
 void SlidingWindowEstimator::solve() {
   const auto t0 = std::chrono::steady_clock::now();
   WindowSolver solver;
@@ -414,10 +425,15 @@ void SlidingWindowEstimator::solve() {
         costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
         solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
         if (options_.gyro_bias_at_rest && f->has_gyro_at_rest) {
-          costs.push_back(std::make_unique<GyroAtRestFactor>(f->gyro_at_rest_mean, f->gyro_at_rest_sigma));
+          costs.push_back(std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kGyro, f->gyro_at_rest_mean, f->gyro_at_rest_sigma));
           solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
         }
       }
+  for (auto& f : frames_)
+    if (f->has_accel_bias_prior) {
+      costs.push_back(accelBiasPrior(*f));
+      solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
+    }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   int used = 0;
   for (auto& [id, l] : landmarks_.landmarks()) {
@@ -657,9 +673,13 @@ void SlidingWindowEstimator::marginalizeOldest() {
     costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
     if (options_.gyro_bias_at_rest && oldest.has_gyro_at_rest) {
-      costs.push_back(std::make_unique<GyroAtRestFactor>(oldest.gyro_at_rest_mean, oldest.gyro_at_rest_sigma));
+      costs.push_back(std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kGyro, oldest.gyro_at_rest_mean, oldest.gyro_at_rest_sigma));
       m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
     }
+  }
+  if (oldest.has_accel_bias_prior) {
+    costs.push_back(accelBiasPrior(oldest));
+    m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
   }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   for (auto& [id, l] : landmarks_.landmarks()) {

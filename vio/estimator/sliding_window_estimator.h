@@ -110,8 +110,10 @@ class SlidingWindowEstimator {
     FrameFeatures features;                  // kept for the visual-inertial initialisation
     bool stationary = false;
     bool has_gyro_at_rest = false;       // stationary, with the gyro mean over its IMU interval:
-    Eigen::Vector3d gyro_at_rest_mean;   // the bias it measured (gyro_at_rest_factor.h)
+    Eigen::Vector3d gyro_at_rest_mean;   // the bias it measured (bias_prior_factor.h)
     Eigen::Vector3d gyro_at_rest_sigma;
+    bool has_accel_bias_prior = false;   // the static initialisation's frame: its bias held
+    Eigen::Vector3d accel_bias_prior;    // (bias_prior_factor.h)
     int64_t imuTimeNs() const { return t_ns + data::secToNs(td); }
     Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
     Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
@@ -137,6 +139,7 @@ class SlidingWindowEstimator {
   int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
   void solve();
+  std::unique_ptr<ceres::CostFunction> accelBiasPrior(const Frame& f) const;
   // Removes landmarks whose mean reprojection error exceeds options_.outlier_reprojection_px.
   void rejectOutliers();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);

@@ -1,4 +1,4 @@
-#include "vio/estimator/gyro_at_rest_factor.h"
+#include "vio/estimator/bias_prior_factor.h"
 
 #include <cmath>
 
