@@ -235,6 +235,29 @@ TEST(SlidingWindowEstimator, StandingStillKeepsTheGyroBiasAndTheTilt) {
   EXPECT_LT(both.tilt_error_deg, 2.0);
 }
 
+// solver_function_tolerance reaches the window solver: a looser one stops the solves after fewer
+// steps (each still at most max_iterations), and the trajectory stays accurate.
+TEST(SlidingWindowEstimator, LooserFunctionToleranceTakesFewerSolverSteps) {
+  test::TempDir tmp("adugs_swe_tolerance");
+  const std::string root = makeSequence(tmp, "none", 5.0);
+  const auto stepsPerSolve = [&](double tolerance, double* ate) {
+    PipelineSetup setup;
+    setup.options.solver_function_tolerance = tolerance;
+    const PipelineRun run = runPipeline(root, {}, {}, setup);
+    EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+    *ate = evaluate(run.trajectory, root).ate.translation.rmse;
+    EXPECT_GT(run.stats.solves, 50);
+    return double(run.stats.solver_iterations) / std::max(1, run.stats.solves);
+  };
+  double ate_strict = 0, ate_loose = 0;
+  const double strict = stepsPerSolve(1e-6, &ate_strict), loose = stepsPerSolve(1e-2, &ate_loose);
+  std::cout << "steps per solve: " << strict << " at 1e-6 (ATE " << ate_strict << " m), " << loose
+            << " at 1e-2 (ATE " << ate_loose << " m)\n";
+  EXPECT_LE(strict, 8.0);
+  EXPECT_LT(loose, strict - 1.0);
+  EXPECT_LT(ate_loose, 2.0 * ate_strict + 0.01);
+}
+
 // The window waits for the initialisation with init_window_size + 1 frames, then grows to
 // window_size + 1 (an SfM over a long window of walking people started at a fifth of the scale:
 // doc/history.md, "The initialisation window").

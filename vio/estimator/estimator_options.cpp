@@ -15,6 +15,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("huber_px", o->huber_px, 0.01, 100.0);
   r.optional("outlier_reprojection_px", o->outlier_reprojection_px, 0.0, 1000.0);
   r.optional("max_iterations", o->max_iterations, 1, 1000);
+  r.optional("solver_function_tolerance", o->solver_function_tolerance, 0.0, 0.5);
   r.optional("max_solver_time_s", o->max_solver_time_s, 0.001, 10.0);
   r.optional("min_depth_m", o->min_depth_m, 0.001, 1000.0);
   r.optional("max_depth_m", o->max_depth_m, 0.01, 1e5);

@@ -457,6 +457,7 @@ void SlidingWindowEstimator::solve() {
 
   WindowSolverOptions so;
   so.max_iterations = options_.max_iterations;
+  so.function_tolerance = options_.solver_function_tolerance;
   so.max_time_s = options_.max_solver_time_s;
   const WindowSolverSummary summary = solver.solve(so);
   ++stats_.solves;
