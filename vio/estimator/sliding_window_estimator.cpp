@@ -373,6 +373,16 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   return state;
 }
 
+std::vector<std::unique_ptr<ceres::CostFunction>> SlidingWindowEstimator::restFactors(const Frame& f) const {
+  std::vector<std::unique_ptr<ceres::CostFunction>> factors;
+  if (!options_.zero_velocity_updates || !f.stationary) return factors;
+  factors.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
+  if (f.has_gyro_at_rest)  // measured only with options_.gyro_bias_at_rest
+    factors.push_back(std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kGyro, f.gyro_at_rest_mean,
+                                                        f.gyro_at_rest_sigma));
+  return factors;
+}
+
 std::unique_ptr<ceres::CostFunction> SlidingWindowEstimator::accelBiasPrior(const Frame& f) const {
   return std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kAccel, f.accel_bias_prior,
                                            Eigen::Vector3d::Constant(options_.static_init_accel_bias_sigma));
@@ -419,16 +429,11 @@ void SlidingWindowEstimator::solve() {
                        {frames_[k - 1]->pose, frames_[k - 1]->speed_bias, frames_[k]->pose,
                         frames_[k]->speed_bias});
   }
-  if (options_.zero_velocity_updates)
-    for (auto& f : frames_)
-      if (f->stationary) {
-        costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
-        solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
-        if (options_.gyro_bias_at_rest && f->has_gyro_at_rest) {
-          costs.push_back(std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kGyro, f->gyro_at_rest_mean, f->gyro_at_rest_sigma));
-          solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
-        }
-      }
+  for (auto& f : frames_)
+    for (auto& cost : restFactors(*f)) {
+      costs.push_back(std::move(cost));
+      solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
+    }
   for (auto& f : frames_)
     if (f->has_accel_bias_prior) {
       costs.push_back(accelBiasPrior(*f));
@@ -670,13 +675,9 @@ void SlidingWindowEstimator::marginalizeOldest() {
     m.addResidualBlock(costs.back().get(), nullptr,
                        {oldest.pose, oldest.speed_bias, frames_[1]->pose, frames_[1]->speed_bias});
   }
-  if (options_.zero_velocity_updates && oldest.stationary) {
-    costs.push_back(std::make_unique<ZeroVelocityFactor>(options_.zero_velocity_sigma));
+  for (auto& cost : restFactors(oldest)) {
+    costs.push_back(std::move(cost));
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
-    if (options_.gyro_bias_at_rest && oldest.has_gyro_at_rest) {
-      costs.push_back(std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kGyro, oldest.gyro_at_rest_mean, oldest.gyro_at_rest_sigma));
-      m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
-    }
   }
   if (oldest.has_accel_bias_prior) {
     costs.push_back(accelBiasPrior(oldest));

@@ -139,6 +139,9 @@ class SlidingWindowEstimator {
   int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
   void solve();
+  // The factors standing still puts on a frame's speed-bias block: zero velocity and, when
+  // measured, the gyro bias at rest (built alike for the solve and the marginalisation).
+  std::vector<std::unique_ptr<ceres::CostFunction>> restFactors(const Frame& f) const;
   std::unique_ptr<ceres::CostFunction> accelBiasPrior(const Frame& f) const;
   // Removes landmarks whose mean reprojection error exceeds options_.outlier_reprojection_px.
   void rejectOutliers();
