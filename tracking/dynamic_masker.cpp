@@ -1,6 +1,7 @@
 #include "tracking/dynamic_masker.h"
 
 #include "data/elapsed_time.h"
+#include "tracking/detect/motion_cue.h"
 #include "tracking/sort/appearance.h"
 
 #include <chrono>
@@ -26,8 +27,8 @@ DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
   }
 }
 
-DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
-                                         const std::vector<Detection>& detections) {
+DynamicMaskResult DynamicMasker::process(const cv::Mat& image, const std::vector<Detection>& detections,
+                                         const std::vector<PointPrompt>& points) {
   DynamicMaskResult r;
   auto t0 = std::chrono::steady_clock::now();
   if (options_.track && options_.sort.appearance_weight > 0) {
@@ -42,7 +43,7 @@ DynamicMaskResult DynamicMasker::process(const cv::Mat& image,
   }
   frames_since_detection_ = 1;
   r.sort_ms = data::msSince(t0);
-  return maskBoxes(image, std::move(r));
+  return maskBoxes(image, std::move(r), points);
 }
 
 DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
@@ -54,7 +55,8 @@ DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
   return maskBoxes(image, std::move(r));
 }
 
-DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResult r) {
+DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResult r,
+                                           const std::vector<PointPrompt>& points) {
   auto t0 = std::chrono::steady_clock::now();
   std::vector<TrackedObject> objects;
   for (const TrackedObject& o : r.objects)
@@ -64,9 +66,12 @@ DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResu
   if (sparse_) {
     raw = sparse_->segment(image, objects);
   } else {
-    std::vector<Box> boxes;
-    for (const TrackedObject& o : objects) boxes.push_back(o.box);
+    // The point prompts cut the motion cue's own boxes only: in a detector's box a point that
+    // looks still may be on an object moving along its epipolar line (tracking/object_motion.h).
+    std::vector<Box> boxes, cue_boxes;
+    for (const TrackedObject& o : objects) (o.class_id == kMovingClass && !points.empty() ? cue_boxes : boxes).push_back(o.box);
     raw = segmenter_->segment(image, boxes);
+    if (!cue_boxes.empty()) raw |= segmenter_->segmentWithPoints(image, cue_boxes, points);
   }
   r.segment_ms = data::msSince(t0);
 

@@ -35,8 +35,11 @@ class DynamicMasker {
   // Tracked objects (SORT ids) seen static (tracking/object_motion.h): from the next frame on
   // they are not segmented, so their features are kept. Replaces the previous set.
   void setStaticObjects(std::set<int64_t> ids) { static_ids_ = std::move(ids); }
-  // image: CV_8UC1 or CV_8UC3; detections of this frame in its pixels.
-  DynamicMaskResult process(const cv::Mat& image, const std::vector<Detection>& detections);
+  // image: CV_8UC1 or CV_8UC3; detections of this frame in its pixels; points: the motion cue's
+  // point prompts of this frame, for the segmentation of its own boxes (class kMovingClass; used
+  // by GrabCut, ignored by a sparse segmenter).
+  DynamicMaskResult process(const cv::Mat& image, const std::vector<Detection>& detections,
+                            const std::vector<PointPrompt>& points = {});
   // A frame without detections (not a detection frame): the tracked boxes predicted to it.
   DynamicMaskResult carry(const cv::Mat& image);
   const BoxSegmenter& segmenter() const { return sparse_ ? sparse_->inner() : *segmenter_; }
@@ -44,7 +47,7 @@ class DynamicMasker {
   int segmenterRuns() const { return sparse_ ? sparse_->innerRuns() : -1; }
 
  private:
-  DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r);
+  DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r, const std::vector<PointPrompt>& points = {});
 
   DynamicMaskerOptions options_;
   std::unique_ptr<BoxSegmenter> segmenter_;      // every frame, or

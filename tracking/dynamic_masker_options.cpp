@@ -44,12 +44,14 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
     m.optional("cell_px", c.cell_px, 4, 1000);
     m.optional("corner_quality", c.corner_quality, 0.0, 1.0);
     m.optional("threshold_px", c.threshold_px, 0.01, 100.0);
+    m.optional("strong_threshold_px", c.strong_threshold_px, 0.01, 1000.0);
     m.optional("translation_min_gain", c.translation_min_gain, 0.0, 1.0);
     m.optional("min_speed", c.min_speed, 0.0, 100.0);
     m.optional("ransac_iterations", c.ransac_iterations, 1, 100000);
     m.optional("group_radius_px", c.group_radius_px, 1.0, 10000.0);
     m.optional("min_points", c.min_points, 1, 1000);
     m.optional("box_margin", c.box_margin, 0.0, 10.0);
+    if (c.strong_threshold_px < c.threshold_px) m.fail("strong_threshold_px", "must be at least threshold_px");
     m.finish();
   }
 }

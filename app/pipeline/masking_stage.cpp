@@ -70,13 +70,17 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   const auto t0 = std::chrono::steady_clock::now();
   const cv::Mat& image = frame.colour.empty() ? frame.image : frame.colour;
   std::vector<tracking::Detection> prompts;
+  std::vector<tracking::PointPrompt> points;
   if (motion_) {
     prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C);
     masker_->setStaticObjects(object_motion_.staticIds());  // judged up to the previous frame
+    // Its moving points are object, its still ones background, for the box segmenter.
+    for (const tracking::MotionCuePoint& p : motion_->points())
+      if (p.moving || p.still) points.push_back({p.pixel, p.moving});
   }
   if (f->detections) prompts.insert(prompts.end(), f->detections->begin(), f->detections->end());
   const tracking::DynamicMaskResult r =
-      f->detections || motion_ ? masker_->process(image, prompts) : masker_->carry(image);
+      f->detections || motion_ ? masker_->process(image, prompts, points) : masker_->carry(image);
   if (motion_) {
     object_motion_.update(r.objects, motion_->points(), !motion_->translating());
     f->objects_seen_static = object_motion_.everStatic();

@@ -50,6 +50,46 @@ TEST(GrabCutSegmenter, SeparatesADiscFromItsBox) {
   EXPECT_THROW(s.segment(cv::Mat(), {}), std::invalid_argument);
 }
 
+// A loose box (the motion cue's: the bounding box of moving points, widened) around a grey disc
+// whose texture is close to the background's: from the box alone GrabCut keeps much of the box;
+// the cue's points as prompts (moving ones on the disc: object; still ones around it: background)
+// are hard labels, and cut the box down to the disc.
+TEST(GrabCutSegmenter, PointPromptsCutALooseBoxDownToTheObject) {
+  cv::Mat image(240, 320, CV_8UC1), disc_texture(240, 320, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(image, cv::RNG::UNIFORM, 60, 160);
+  rng.fill(disc_texture, cv::RNG::UNIFORM, 70, 170);
+  cv::Mat disc = cv::Mat::zeros(image.size(), CV_8UC1);
+  cv::circle(disc, {160, 120}, 40, cv::Scalar(255), cv::FILLED);
+  disc_texture.copyTo(image, disc);
+  cv::GaussianBlur(image, image, cv::Size(0, 0), 1.5);
+  const Box loose{160, 120, 150, 150};
+  std::vector<PointPrompt> points;
+  for (int y = 51; y < 190; y += 16)
+    for (int x = 91; x < 230; x += 16) {
+      const double r = std::hypot(x - 160.0, y - 120.0);
+      if (r < 34) points.push_back({cv::Point2f(x, y), true});
+      else if (r > 46) points.push_back({cv::Point2f(x, y), false});
+    }
+  GrabCutSegmenter s;
+  const auto iou = [&](const cv::Mat& m) {
+    return static_cast<double>(cv::countNonZero(m & disc)) / cv::countNonZero(m | disc);
+  };
+  const cv::Mat box_only = s.segment(image, {loose});
+  const cv::Mat prompted = s.segmentWithPoints(image, {loose}, points);
+  std::cout << "IoU with the disc: box alone " << iou(box_only) << ", with point prompts " << iou(prompted) << "\n";
+  EXPECT_GT(iou(prompted), 0.8);
+  EXPECT_GT(iou(prompted), iou(box_only) + 0.1);
+  for (const PointPrompt& p : points)  // hard labels
+    EXPECT_EQ(prompted.at<uint8_t>(cv::Point(p.pixel)), p.object ? 255 : 0) << p.pixel;
+  // Points outside the box change nothing; without points the result is the box-only one.
+  const cv::Mat far_points = s.segmentWithPoints(image, {loose}, {{cv::Point2f(5, 5), false}, {cv::Point2f(310, 230), true}});
+  EXPECT_EQ(cv::countNonZero(far_points != box_only), 0);
+  // A segmenter that cannot use points ignores them.
+  FilledBoxSegmenter filled;
+  EXPECT_EQ(cv::countNonZero(filled.segmentWithPoints(image, {loose}, points) != filled.segment(image, {loose})), 0);
+}
+
 // On simulated street frames with their amodal ground-truth boxes, compare the segmented union
 // with the exact dynamic mask (visible object pixels).
 TEST(GrabCutSegmenter, SimulatedStreetMasksAgainstGroundTruth) {

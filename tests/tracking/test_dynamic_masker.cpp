@@ -10,6 +10,7 @@
 #include "data/formats/yaml_options.h"
 #include "data/input_error.h"
 #include "tests/tracking/simulated_street.h"
+#include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker.h"
 #include "tracking/dynamic_masker_options.h"
 #include "tracking/segment/grabcut_segmenter.h"
@@ -142,6 +143,47 @@ TEST(DynamicMasker, EmptyFramesGiveAnEmptyMaskAndNullSegmenterIsRefused) {
 
 // The one detect-every rule: frames 0, n, 2n, ... (the detection stage, the masker's callers and
 // `adugs track` all ask it).
+// Records what it is asked to segment, with and without points.
+class RecordingSegmenter : public BoxSegmenter {
+ public:
+  cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) override {
+    for (const Box& b : boxes) without_points.push_back(b);
+    return cv::Mat::zeros(image.size(), CV_8UC1);
+  }
+  cv::Mat segmentWithPoints(const cv::Mat& image, const std::vector<Box>& boxes,
+                            const std::vector<PointPrompt>& points) override {
+    for (const Box& b : boxes) with_points.push_back(b);
+    points_seen = points.size();
+    return cv::Mat::zeros(image.size(), CV_8UC1);
+  }
+  const char* name() const override { return "recording"; }
+  std::vector<Box> with_points, without_points;
+  size_t points_seen = 0;
+};
+
+// The motion cue's point prompts go to its own boxes only: in a detector's box a point that looks
+// still may be on an object moving along its epipolar line.
+TEST(DynamicMasker, PointPromptsCutTheMotionCuesBoxesOnly) {
+  DynamicMaskerOptions options;
+  options.track = false;  // the boxes as given
+  auto recording = std::make_unique<RecordingSegmenter>();
+  RecordingSegmenter* seen = recording.get();
+  DynamicMasker masker(options, std::move(recording));
+  const cv::Mat image(120, 160, CV_8UC1, cv::Scalar(100));
+  const Detection cue{Box{40, 60, 40, 40}, kMovingClass, 1.0}, person{Box{110, 60, 40, 60}, 0, 0.9};
+  const std::vector<PointPrompt> points = {{cv::Point2f(40, 60), true}, {cv::Point2f(110, 60), false}};
+  masker.process(image, {cue, person}, points);
+  ASSERT_EQ(seen->with_points.size(), 1u);
+  EXPECT_DOUBLE_EQ(seen->with_points[0].cx, 40);
+  EXPECT_EQ(seen->points_seen, 2u);
+  ASSERT_EQ(seen->without_points.size(), 1u);
+  EXPECT_DOUBLE_EQ(seen->without_points[0].cx, 110);
+  // Without points every box is segmented as before, in one call.
+  masker.process(image, {cue, person});
+  EXPECT_EQ(seen->with_points.size(), 1u);
+  EXPECT_EQ(seen->without_points.size(), 3u);
+}
+
 TEST(DynamicMaskerOptions, DetectionFramesAreEveryNthFromTheFirst) {
   std::vector<int> frames;
   for (int i = 0; i < 10; ++i)
@@ -182,7 +224,8 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_EQ(o.motion_cue.cell_px, MotionCueOptions().cell_px);  // no motion_cue: map: the code's
 
   data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
-      "motion_cue:\n  cell_px: 32\n  corner_quality: 0.01\n  threshold_px: 2.5\n  translation_min_gain: 0.2\n"
+      "motion_cue:\n  cell_px: 32\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
+      "  translation_min_gain: 0.2\n"
       "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 4\n  box_margin: 0.2\n",
       "dynamic.yaml");
   readDynamicMaskerOptions(cue, &o);
@@ -190,13 +233,15 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_EQ(o.motion_cue.cell_px, 32);
   EXPECT_DOUBLE_EQ(o.motion_cue.corner_quality, 0.01);
   EXPECT_DOUBLE_EQ(o.motion_cue.threshold_px, 2.5);
+  EXPECT_DOUBLE_EQ(o.motion_cue.strong_threshold_px, 6);
   EXPECT_DOUBLE_EQ(o.motion_cue.translation_min_gain, 0.2);
   EXPECT_DOUBLE_EQ(o.motion_cue.min_speed, 0.05);
   EXPECT_EQ(o.motion_cue.ransac_iterations, 50);
   EXPECT_DOUBLE_EQ(o.motion_cue.group_radius_px, 30);
   EXPECT_EQ(o.motion_cue.min_points, 4);
   EXPECT_DOUBLE_EQ(o.motion_cue.box_margin, 0.2);
-  for (const char* text : {"motion_cue:\n  threshold_px: 0\n", "motion_cue:\n  threshhold_px: 2\n"}) {
+  for (const char* text : {"motion_cue:\n  threshold_px: 0\n", "motion_cue:\n  threshhold_px: 2\n",
+                           "motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n"}) {
     data::YamlOptionsReader wrong = data::YamlOptionsReader::fromString(text, "dynamic.yaml");
     try {
       readDynamicMaskerOptions(wrong, &o);

@@ -156,6 +156,50 @@ TEST(MotionCue, KnownVelocityGivesTheDirectionOfTravel) {
   EXPECT_EQ(still.frames_with_a_box_on_the_panel + still.frames_with_a_box_off_the_panel, 0);
 }
 
+TEST(MotionCue, AKnownVelocityIsTranslationEvenWithoutParallax) {
+  // A slow sideways camera (1 cm per frame: under 1 px of parallax on the wall) with its velocity
+  // known: the translating model is used on every frame; fitted, "rotation only" explains the
+  // frames as well and is kept. Nothing is boxed either way.
+  const Outcome known = run({0.01, 0, 0}, 0.3, {0, 0}, true);
+  EXPECT_EQ(known.translating_frames, known.frames);
+  EXPECT_EQ(known.frames_with_a_box_on_the_panel + known.frames_with_a_box_off_the_panel, 0);
+  const Outcome fitted = run({0.01, 0, 0}, 0.3, {0, 0}, false);
+  EXPECT_EQ(fitted.translating_frames, 0);
+}
+
+// The panel moves 5 cm per frame across the epipolar lines (7.5 px per frame at 3 m): its points
+// pass strong_threshold_px from their first residual, so the panel is boxed in the second frame;
+// with the 2-of-3 vote alone (strong threshold out of reach) not before the third.
+TEST(MotionCue, ClearMotionCountsFromAPointsFirstResidual) {
+  const Scene scene;
+  for (const bool strong : {true, false}) {
+    MotionCueOptions options;
+    if (!strong) options.strong_threshold_px = 1000;
+    MotionCue cue(kCamera, options);
+    std::vector<size_t> boxes_per_frame;
+    for (int k = 0; k < 3; ++k) {
+      cv::Mat panel_mask;
+      const cv::Mat image = scene.render(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.3, 0, 0),
+                                         Eigen::Vector2d(0.2, -0.6 + 0.05 * k), &panel_mask);
+      boxes_per_frame.push_back(cue.detect(image, Eigen::Matrix3d::Identity()).size());
+      if (k == 2) {
+        // Still points: tracked twice with no motion (the wall); moving ones are never still.
+        int still_on_panel = 0, still_on_wall = 0;
+        for (const MotionCuePoint& p : cue.points()) {
+          EXPECT_FALSE(p.still && p.moving);
+          const bool on_panel = panel_mask.at<uint8_t>(cv::Point(p.pixel)) > 0;
+          (on_panel ? still_on_panel : still_on_wall) += p.still;
+        }
+        EXPECT_EQ(still_on_panel, 0);
+        EXPECT_GT(still_on_wall, 100);
+      }
+    }
+    EXPECT_EQ(boxes_per_frame[0], 0u);
+    EXPECT_EQ(boxes_per_frame[1], strong ? 1u : 0u) << strong;
+    EXPECT_EQ(boxes_per_frame[2], 1u) << strong;
+  }
+}
+
 TEST(MotionCue, BadInputsAreRejected) {
   MotionCue cue(kCamera);
   EXPECT_THROW(cue.detect(cv::Mat(480, 752, CV_32FC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);

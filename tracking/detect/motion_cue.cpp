@@ -42,7 +42,8 @@ MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& op
       focal_px_(camera.centreFocalPx()),
       grid_cols_((camera.width() + options.cell_px - 1) / std::max(1, options.cell_px)),
       grid_rows_((camera.height() + options.cell_px - 1) / std::max(1, options.cell_px)) {
-  if (options_.cell_px < 4 || options_.min_points < 1 || options_.threshold_px <= 0 || options_.group_radius_px <= 0 ||
+  if (options_.cell_px < 4 || options_.min_points < 1 || options_.threshold_px <= 0 ||
+      options_.strong_threshold_px < options_.threshold_px || options_.group_radius_px <= 0 ||
       options_.ransac_iterations < 1 || options_.corner_quality <= 0)
     throw std::invalid_argument("MotionCue: cell_px >= 4, min_points >= 1 and positive thresholds, radius, quality and iterations");
 }
@@ -109,7 +110,7 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
       // 2. The camera's rotation removed: where the previous ray points in this camera.
       previous_rays.push_back((R_Ccur_Cprev * from_rays[i]).normalized());
       rays.push_back(b.normalized());
-      kept.push_back({to[i], tracks_[i].history});
+      kept.push_back({to[i], tracks_[i].history, static_cast<uint8_t>(std::min(255, tracks_[i].age + 1))});
     }
   }
   tracks_ = std::move(kept);
@@ -121,8 +122,9 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   for (size_t i = 0; i < tracks_.size(); ++i) {
     Track& t = tracks_[i];
     t.history = static_cast<uint8_t>((t.history << 1) | (r[i] > options_.threshold_px ? 1 : 0));
-    const bool moves = std::bitset<3>(t.history & 7u).count() >= 2;
-    points_.push_back({t.pixel, moves, r[i]});
+    const bool moves = std::bitset<3>(t.history & 7u).count() >= 2 || r[i] > options_.strong_threshold_px;
+    const bool still = t.age >= 2 && (t.history & 3u) == 0;
+    points_.push_back({t.pixel, moves, still, r[i]});
     if (moves) moving.push_back(t.pixel);
   }
   previous_pyramid_ = std::move(pyramid);
@@ -149,15 +151,18 @@ std::vector<double> MotionCue::residuals(const std::vector<Eigen::Vector3d>& pre
     r[k] = focal_px_ * epipolarAngle(t, a, rays[k]);
     if (a.cross(rays[k]).dot(t.cross(a)) < 0) r[k] = std::max(r[k], rotation_only[k]);
   }
-  // Which model: the translating one explains more, and when fitted it has two degrees of
+  // Which model, for a fitted direction: the translating one explains more, and it has two degrees of
   // freedom that can line up with moving objects if the static scene has no parallax; it is
   // taken when it explains clearly more points (a near road slides past a slow camera while the
   // far scene stays put: the median motion can be below a pixel and the translation still matter).
   const auto inliers = [&](const std::vector<double>& residual) {
     return std::count_if(residual.begin(), residual.end(), [&](double v) { return v < options_.threshold_px; });
   };
+  // A known velocity is not fitted and cannot line up with a moving object: above min_speed the
+  // camera translates, whether or not this frame's points show parallax (taking "rotation only"
+  // while driving puts every near static point among the moving ones).
   const double gain = std::max(options_.translation_min_gain * static_cast<double>(n), 5.0);
-  translating_ = static_cast<double>(inliers(r) - inliers(rotation_only)) > gain;
+  translating_ = v_C.has_value() || static_cast<double>(inliers(r) - inliers(rotation_only)) > gain;
   return translating_ ? r : rotation_only;
 }
 
@@ -285,8 +290,8 @@ void MotionCue::topUp(const cv::Mat& grey) {
       cv::minMaxLoc(strength(area), nullptr, &best, nullptr, &at);
       if (best < floor) continue;
       const cv::Point2f pixel(static_cast<float>(area.x + at.x), static_cast<float>(area.y + at.y));
-      tracks_.push_back({pixel, 0});
-      points_.push_back({pixel, false, 0});
+      tracks_.push_back({pixel, 0, 0});
+      points_.push_back({pixel, false, false, 0});
     }
 }
 

@@ -21,7 +21,9 @@
 //      explains translation_min_gain of the points more than the rotation-only one. With the
 //      estimator's velocity the direction is known, not fitted: the fit can line up with a large
 //      moving object when the static scene has no parallax;
-//   4. a point moves when its residual is above threshold_px in at least 2 of its last 3 frames;
+//   4. a point moves when its residual is above threshold_px in at least 2 of its last 3 frames,
+//      or above strong_threshold_px in this one (points on a walking person or an object's edge
+//      rarely live three frames: a young point with clear motion counts at once);
 //      moving points closer than group_radius_px form a group; a group of min_points or more is a
 //      box (their bounding box, widened by box_margin on each side), score 1, class kMovingClass.
 // What it cannot see: motion along the point's epipolar line that a static point could have at
@@ -46,6 +48,7 @@ struct MotionCueOptions {
   int cell_px = 24;               // one point per grid cell of this side
   double corner_quality = 0.001;  // of the image's strongest corner: weaker cells get no point
   double threshold_px = 1.5;      // residual above which a point moves in a frame
+  double strong_threshold_px = 4.5;  // residual above which one frame is enough
   double translation_min_gain = 0.1;  // of the points (at least 5): see 3. above
   double min_speed = 0.02;            // m/s: a known velocity below it is no translation
   int ransac_iterations = 200;
@@ -58,6 +61,7 @@ struct MotionCueOptions {
 struct MotionCuePoint {
   cv::Point2f pixel;
   bool moving = false;
+  bool still = false;      // tracked over the last 2 frames with residuals below threshold_px in both
   double residual_px = 0;  // this frame's (0 for a point new in it)
 };
 
@@ -82,6 +86,7 @@ class MotionCue {
   struct Track {
     cv::Point2f pixel;
     uint8_t history = 0;  // bit k: moved k frames ago (bit 0: this frame)
+    uint8_t age = 0;      // frames tracked (saturates)
   };
   // Per point of `tracks_` (after tracking into this frame): residual in pixels.
   std::vector<double> residuals(const std::vector<Eigen::Vector3d>& previous_rays,

@@ -10,12 +10,24 @@
 
 namespace adugs::tracking {
 
+// A point prompt: a pixel known to be on a moving object or on the static background (the
+// motion cue's moving and still points), used inside the boxes it falls in.
+struct PointPrompt {
+  cv::Point2f pixel;
+  bool object = false;
+};
+
 class BoxSegmenter {
  public:
   virtual ~BoxSegmenter() = default;
   // image: CV_8UC1 or CV_8UC3. Returns CV_8UC1 of the image size, 255 on object pixels of any
   // box, 0 elsewhere. Boxes may extend past the image; they are clipped.
   virtual cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) = 0;
+  // The same with point prompts; a segmenter that cannot use them ignores them.
+  virtual cv::Mat segmentWithPoints(const cv::Mat& image, const std::vector<Box>& boxes,
+                                    const std::vector<PointPrompt>& /*points*/) {
+    return segment(image, boxes);
+  }
   virtual const char* name() const = 0;
   // Too slow to run on every frame on a CPU (the dynamic masker then runs it sparsely).
   virtual bool slow() const { return false; }

@@ -1,6 +1,7 @@
 #include "tracking/segment/grabcut_segmenter.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -13,6 +14,11 @@ GrabCutSegmenter::GrabCutSegmenter(const GrabCutOptions& options) : options_(opt
 }
 
 cv::Mat GrabCutSegmenter::segment(const cv::Mat& image, const std::vector<Box>& boxes) {
+  return segmentWithPoints(image, boxes, {});
+}
+
+cv::Mat GrabCutSegmenter::segmentWithPoints(const cv::Mat& image, const std::vector<Box>& boxes,
+                                            const std::vector<PointPrompt>& points) {
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
     throw std::invalid_argument("GrabCutSegmenter: image must be 8-bit grey or BGR");
   cv::Mat bgr = image;
@@ -22,14 +28,15 @@ cv::Mat GrabCutSegmenter::segment(const cv::Mat& image, const std::vector<Box>& 
   for (const Box& b : boxes) {
     const cv::Rect r = clippedRect(b, image.cols, image.rows);
     if (r.empty()) continue;
-    cv::Mat object = segmentOne(bgr, b, r);
+    cv::Mat object = segmentOne(bgr, b, r, points);
     cv::Mat target = mask(r);
     cv::bitwise_or(target, object, target);
   }
   return mask;
 }
 
-cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect) {
+cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect,
+                                     const std::vector<PointPrompt>& points) {
   cv::Mat filled(box_rect.size(), CV_8UC1, cv::Scalar(255));
   if (std::min(box_rect.width, box_rect.height) < options_.min_box_side) {
     ++fallbacks_;
@@ -56,9 +63,21 @@ cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const c
     ++fallbacks_;
     return filled;
   }
-  cv::Mat labels, bgd_model, fgd_model;
+  // The rectangle's labels (certain background outside the box, probable object inside), with
+  // the point prompts inside the box as hard labels.
+  cv::Mat labels(small.size(), CV_8UC1, cv::Scalar(cv::GC_BGD));
+  labels(box_small).setTo(cv::GC_PR_FGD);
+  const int radius = std::max(1, static_cast<int>(std::lround(options_.point_radius_px * scale)));
+  bool prompted = false;
+  for (const PointPrompt& p : points) {
+    if (!box_rect.contains(cv::Point(static_cast<int>(p.pixel.x), static_cast<int>(p.pixel.y)))) continue;
+    const cv::Point at(static_cast<int>((p.pixel.x - region.x) * scale), static_cast<int>((p.pixel.y - region.y) * scale));
+    cv::circle(labels, at, radius, cv::Scalar(p.object ? cv::GC_FGD : cv::GC_BGD), cv::FILLED);
+    prompted = true;
+  }
+  cv::Mat bgd_model, fgd_model;
   cv::grabCut(small, labels, box_small, bgd_model, fgd_model, options_.iterations,
-              cv::GC_INIT_WITH_RECT);
+              prompted ? cv::GC_INIT_WITH_MASK : cv::GC_INIT_WITH_RECT);
   cv::Mat fg_small = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
   cv::Mat fg_region;
   cv::resize(fg_small, fg_region, region.size(), 0, 0, cv::INTER_NEAREST);

@@ -2,6 +2,9 @@
 // Weight-free box-prompted segmentation with OpenCV's GrabCut (colour/grey-level GMMs + graph
 // cut), initialised with the box as "probably foreground" inside and certain background in a
 // margin around it. For speed the region is processed at most max_side px wide/high.
+// Point prompts inside a box are hard labels for the graph cut (a disc of point_radius_px each):
+// object points foreground, background points background, so that a loose box (the motion cue's
+// boxes are the bounding boxes of moving points) is cut down to the object.
 // Safety first for the VIO: when GrabCut returns (almost) nothing for a box - a textureless
 // object, a box too small to model - the whole box is masked instead.
 #include "tracking/segment/box_segmenter.h"
@@ -14,19 +17,23 @@ struct GrabCutOptions {
   double margin = 0.15;                   // background ring around the box, fraction of its size
   int min_box_side = 12;                  // px; smaller boxes are filled directly
   double min_foreground_fraction = 0.15;  // of the box area; less -> fill the box
+  double point_radius_px = 3;             // of a point prompt's hard label, in image pixels
 };
 
 class GrabCutSegmenter : public BoxSegmenter {
  public:
   explicit GrabCutSegmenter(const GrabCutOptions& options = {});
   cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) override;
+  cv::Mat segmentWithPoints(const cv::Mat& image, const std::vector<Box>& boxes,
+                            const std::vector<PointPrompt>& points) override;
   const char* name() const override { return "grabcut"; }
   // How many boxes fell back to the filled box in the last call.
   int lastFallbacks() const { return fallbacks_; }
 
  private:
   // Object pixels of one box, CV_8UC1 of the clipped box size.
-  cv::Mat segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect);
+  cv::Mat segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect,
+                     const std::vector<PointPrompt>& points);
   GrabCutOptions options_;
   int fallbacks_ = 0;
 };
