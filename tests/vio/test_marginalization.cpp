@@ -294,6 +294,58 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
   EXPECT_LT((Jtr - g_star).norm(), 1e-9 * g_star.norm());
 }
 
+// A semi-definite Schur complement, as the estimator's always is (its position and yaw carry no
+// information): x meets k1 and k2 only through differences (r = A (x - k) - b), so H* over
+// [k1 | k2] is blind to moving both by the same amount. The LDLT's near-zero pivots are dropped:
+// the prior keeps rank 3, its square-root and information forms are the dense H* and g*, and
+// it says nothing along the blind direction.
+TEST(Marginalization, SemiDefiniteSchurComplementKeepsItsRankOnly) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto random = [&](int rows, int cols) {
+    Eigen::MatrixXd m(rows, cols);
+    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
+    return m;
+  };
+  std::array<double, 3> x{0.1, 0.2, 0.3}, k1{1.0, -1.0, 0.5}, k2{-0.5, 0.4, 2.0};
+  const Eigen::MatrixXd A1 = random(4, 3), A2 = random(4, 3);
+  LinearCost c1({A1, -A1}, random(4, 1)), c2({A2, -A2}, random(4, 1));
+  Marginalizer marginalizer;
+  marginalizer.addResidualBlock(&c1, nullptr, {x.data(), k1.data()});
+  marginalizer.addResidualBlock(&c2, nullptr, {x.data(), k2.data()});
+  const auto prior = marginalizer.marginalize({x.data()});
+
+  // Dense reference over [x | k1 | k2].
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(8, 9);
+  J.block(0, 0, 4, 3) = A1, J.block(0, 3, 4, 3) = -A1;
+  J.block(4, 0, 4, 3) = A2, J.block(4, 6, 4, 3) = -A2;
+  Eigen::VectorXd r(8);
+  {
+    const double* b1[] = {x.data(), k1.data()};
+    const double* b2[] = {x.data(), k2.data()};
+    c1.Evaluate(b1, r.data(), nullptr);
+    c2.Evaluate(b2, r.data() + 4, nullptr);
+  }
+  const Eigen::MatrixXd H = J.transpose() * J;
+  const Eigen::VectorXd g = J.transpose() * r;
+  const Eigen::MatrixXd Hmm_inv = H.topLeftCorner(3, 3).inverse();
+  const Eigen::MatrixXd Hkm = H.bottomLeftCorner(6, 3);
+  const Eigen::MatrixXd H_star = H.bottomRightCorner(6, 6) - Hkm * Hmm_inv * Hkm.transpose();
+  const Eigen::VectorXd g_star = g.tail(6) - Hkm * Hmm_inv * g.head(3);
+
+  EXPECT_EQ(prior->J.rows(), 3);
+  EXPECT_LT((prior->J.transpose() * prior->J - H_star).norm(), 1e-9 * H_star.norm());
+  EXPECT_LT((prior->J.transpose() * prior->r - g_star).norm(), 1e-9 * (1.0 + g_star.norm()));
+  EXPECT_LT((prior->H - prior->J.transpose() * prior->J).norm(), 1e-9 * H_star.norm());
+  EXPECT_LT((prior->b - prior->J.transpose() * prior->r).norm(), 1e-9 * (1.0 + g_star.norm()));
+  EXPECT_NEAR(prior->c, prior->r.squaredNorm(), 1e-12);
+  // Moving k1 and k2 together changes nothing.
+  Eigen::VectorXd together(6);
+  together << 0.3, -0.2, 0.1, 0.3, -0.2, 0.1;
+  EXPECT_LT((prior->J * together).norm(), 1e-9 * together.norm() * prior->J.norm());
+  EXPECT_LT(std::abs(prior->b.dot(together)), 1e-9 * (1.0 + prior->b.norm()));
+}
+
 TEST(Marginalization, PriorFactorJacobiansMatchNumericAwayFromLinearisationPoint) {
   const PoseManifold pm;
   const ceres::EigenQuaternionManifold quaternion_manifold;  // exercises the generic Minus path

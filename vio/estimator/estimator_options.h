@@ -25,7 +25,7 @@ struct EstimatorOptions {
   double outlier_reprojection_px = 3.0;
   int max_iterations = 8;
   // A solve also stops when an accepted step lowers the cost by less than this fraction.
-  double solver_function_tolerance = 1e-6;
+  double solver_function_tolerance = 1e-4;
   // A guard only; when it triggers, results depend on machine load. adugs applies it to live
   // sources only (app/run_pipeline): playback solves every window to max_iterations.
   double max_solver_time_s = 0.2;

@@ -1,5 +1,6 @@
 #include "vio/estimator/marginalization.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,8 @@ Eigen::MatrixXd toTangent(const RowMajorMatrix& J, const ceres::Manifold* m, con
 
 // Symmetric pseudo-inverse with eigenvalues below `floor` dropped.
 Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double floor) {
+  if (A.rows() == 1)  // a landmark's inverse depth: most calls
+    return Eigen::MatrixXd::Constant(1, 1, A(0, 0) > floor ? 1.0 / A(0, 0) : 0.0);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
   const Eigen::VectorXd s =
       es.eigenvalues().unaryExpr([&](double v) { return v > floor ? 1.0 / v : 0.0; });
@@ -201,9 +204,9 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   const int n_rest = static_cast<int>(rest.size());
   Eigen::MatrixXd H_rest(n_rest, n_rest);
   Eigen::VectorXd g_rest(n_rest);
-  for (int i = 0; i < n_rest; ++i) {
-    g_rest(i) = g(rest[i]);
-    for (int j = 0; j < n_rest; ++j) H_rest(i, j) = H(rest[i], rest[j]);
+  for (int j = 0; j < n_rest; ++j) {
+    g_rest(j) = g(rest[j]);
+    for (int i = 0; i < n_rest; ++i) H_rest(i, j) = H(rest[i], rest[j]);
   }
   for (const Block* s : independent) {
     const Eigen::MatrixXd H_ss = H.block(s->offset, s->offset, s->tangent, s->tangent);
@@ -217,9 +220,10 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     const Eigen::MatrixXd W = H_cs * inv;
     const Eigen::MatrixXd update = W * H_cs.transpose();
     const Eigen::VectorXd g_update = W * g.segment(s->offset, s->tangent);
-    for (int i = 0; i < n_c; ++i) {
-      g_rest(coupled[i]) -= g_update(i);
-      for (int j = 0; j < n_c; ++j) H_rest(coupled[i], coupled[j]) -= update(i, j);
+    for (int j = 0; j < n_c; ++j) {  // column by column: H_rest is column-major
+      g_rest(coupled[j]) -= g_update(j);
+      double* column = H_rest.data() + static_cast<Eigen::Index>(coupled[j]) * n_rest;
+      for (int i = 0; i < n_c; ++i) column[coupled[i]] -= update(i, j);
     }
   }
 
@@ -239,30 +243,47 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   }
   H_star = 0.5 * (H_star + H_star.transpose()).eval();
 
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(H_star);
+  // Square-root form from a pivoted LDLT, H* = P^T L D L^T P (Eigen's LDLT pivots on the largest
+  // diagonal, made for semi-definite matrices: the directions without information come last with
+  // pivots near zero). With u = L^T P m and z = L^-1 P g*, the quadratic m^T H* m + 2 g*^T m is
+  // sum_i D_i u_i^2 + 2 z_i u_i = sum_i (sqrt(D_i) u_i + z_i / sqrt(D_i))^2 - const, so
+  //   J_p = D^1/2 L^T P, r_p = D^-1/2 z   over the pivots above the floor.
+  // A fifth of the eigen-decomposition's cost (on ~100-200 kept dimensions, once per keyframe).
+  // Pivots at or below the floor are dropped: the negative ones rounding left in the gauge
+  // directions (position and yaw, without information). The tiny positive ones (~1e-6) are kept
+  // as the eigen-decomposition kept its eigenvalues above the floor: a floor relative to the
+  // largest pivot (1e-10 of it) dropped them too and cost accuracy on the hybrid flights
+  // (0.0171 -> 0.0205 m on one; doc/results.md "CPU: where it goes").
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_star);
+  const Eigen::VectorXd D = ldlt.vectorD();
   std::vector<int> rows;
   for (int k = 0; k < n_kept; ++k)
-    if (es.eigenvalues()(k) > eigenvalue_floor) rows.push_back(k);
+    if (D(k) > eigenvalue_floor) rows.push_back(k);
   if (rows.empty()) throw std::invalid_argument("Marginalizer: the prior carries no information");
+  Eigen::MatrixXd LtP = ldlt.matrixU();
+  LtP = LtP * ldlt.transpositionsP().transpose();  // L^T P: column swaps
+  Eigen::VectorXd z = ldlt.transpositionsP() * g_star;
+  ldlt.matrixL().solveInPlace(z);
 
   auto prior = std::make_shared<MarginalizationPrior>();
-  prior->J.resize(static_cast<int>(rows.size()), n_kept);
-  prior->r.resize(static_cast<int>(rows.size()));
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const double s = es.eigenvalues()(rows[i]);
-    const Eigen::VectorXd v = es.eigenvectors().col(rows[i]);
-    prior->J.row(static_cast<int>(i)) = std::sqrt(s) * v.transpose();
-    prior->r(static_cast<int>(i)) = v.dot(g_star) / std::sqrt(s);
+  const int rank = static_cast<int>(rows.size());
+  prior->J.resize(rank, n_kept);
+  prior->r.resize(rank);
+  for (int i = 0; i < rank; ++i) {
+    const double s = std::sqrt(D(rows[static_cast<size_t>(i)]));
+    prior->J.row(i) = s * LtP.row(rows[static_cast<size_t>(i)]);
+    prior->r(i) = z(rows[static_cast<size_t>(i)]) / s;
   }
-  // Information form of the same quadratic: H* and g* without the dropped eigen-directions.
+  // Information form of the same quadratic: H* = sum_i D_i l_i l_i^T and g* = sum_i z_i l_i
+  // (l_i^T row i of L^T P), without the dropped pivots' terms.
   prior->H = H_star;
   prior->b = g_star;
   prior->c = prior->r.squaredNorm();
   for (int k = 0; k < n_kept; ++k) {
-    if (es.eigenvalues()(k) > eigenvalue_floor) continue;
-    const Eigen::VectorXd v = es.eigenvectors().col(k);
-    prior->H.noalias() -= es.eigenvalues()(k) * v * v.transpose();
-    prior->b -= v.dot(g_star) * v;
+    if (D(k) > eigenvalue_floor) continue;
+    const Eigen::VectorXd l = LtP.row(k).transpose();
+    prior->H.noalias() -= D(k) * l * l.transpose();
+    prior->b -= z(k) * l;
   }
   for (const Block& b : kept) {
     prior->blocks.push_back(b.address);

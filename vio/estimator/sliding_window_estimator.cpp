@@ -441,12 +441,12 @@ void SlidingWindowEstimator::solve() {
     }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   int used = 0;
+  std::vector<double*> blocks;  // reused: one allocation, not one per residual
   for (auto& [id, l] : landmarks_.landmarks()) {
     if (!l.has_depth || l.observations.size() < 2) continue;
     solver.addLandmark(&l.inverse_depth);
     const Observation& host = l.observations.front();
     for (size_t k = 1; k < l.observations.size(); ++k) {
-      std::vector<double*> blocks;
       costs.push_back(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks));
       solver.addResidual(costs.back().get(), &huber, blocks);
     }

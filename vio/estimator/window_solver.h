@@ -101,13 +101,25 @@ class WindowSolver {
     std::vector<double> plus_jacobian;  // size x tangent, row-major, at the linearisation point
     std::vector<double> saved;          // value before a step
   };
+  // A residual's per-block indices, stored inline: a window has thousands of residuals, rebuilt
+  // for every solve, and two heap allocations each showed in the profile.
+  static constexpr int kMaxBlocksPerResidual = 6;
+  struct BlockIndices {
+    int value[kMaxBlocksPerResidual] = {};
+    int count = 0;
+    int size() const { return count; }
+    int operator[](int k) const { return value[k]; }
+    int& operator[](int k) { return value[k]; }
+    const int* begin() const { return value; }
+    const int* end() const { return value + count; }
+  };
   struct Residual {
     const ceres::CostFunction* cost = nullptr;
     const TangentCostFunction* tangent = nullptr;  // the same cost, when it is one
     const ceres::LossFunction* loss = nullptr;
-    std::vector<int> blocks;
+    BlockIndices blocks;
     int landmark = -1;
-    std::vector<int> coupling;  // per block: offset in its landmark's coupling vector, or -1
+    BlockIndices coupling;  // per block: offset in its landmark's coupling vector, or -1
   };
   struct Landmark {
     int block = -1;
