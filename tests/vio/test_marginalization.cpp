@@ -45,6 +45,14 @@ class LinearCost : public ceres::CostFunction {
   Eigen::VectorXd b_;
 };
 
+// Entries drawn from N(0, 1).
+Eigen::MatrixXd randomMatrix(int rows, int cols, std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::MatrixXd m(rows, cols);
+  for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
+  return m;
+}
+
 ceres::Solver::Options tightOptions() {
   ceres::Solver::Options o;
   o.linear_solver_type = ceres::DENSE_QR;
@@ -55,12 +63,7 @@ ceres::Solver::Options tightOptions() {
 
 TEST(Marginalization, LinearProblemReducedSolutionEqualsFullSolution) {
   std::mt19937 rng(1);
-  std::normal_distribution<double> n(0.0, 1.0);
-  auto random = [&](int rows, int cols) {
-    Eigen::MatrixXd m(rows, cols);
-    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
-    return m;
-  };
+  auto random = [&](int rows, int cols) { return randomMatrix(rows, cols, rng); };
   // Blocks x1 (2, marginalised), x2 (3), x3 (2); residuals on {x1}, {x1, x2}, {x1, x3}, {x2, x3}.
   std::array<double, 2> x1{0.5, -1.0};
   std::array<double, 3> x2{0.0, 0.0, 0.0};
@@ -227,12 +230,7 @@ TEST(Marginalization, PoseChainKeepsEstimateAfterMarginalisingFirstPose) {
 // complement computed densely here: J^T J = H*, J^T r = g*.
 TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
   std::mt19937 rng(7);
-  std::normal_distribution<double> n(0.0, 1.0);
-  auto random = [&](int rows, int cols) {
-    Eigen::MatrixXd m(rows, cols);
-    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
-    return m;
-  };
+  auto random = [&](int rows, int cols) { return randomMatrix(rows, cols, rng); };
   std::array<double, 3> p{0.1, -0.2, 0.3}, k1{1.0, 0.5, -0.5};
   std::array<double, 2> k2{0.2, 0.4};
   std::array<std::array<double, 1>, 3> l{{{0.5}, {-0.7}, {1.2}}};
@@ -301,12 +299,7 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
 // it says nothing along the blind direction.
 TEST(Marginalization, SemiDefiniteSchurComplementKeepsItsRankOnly) {
   std::mt19937 rng(11);
-  std::normal_distribution<double> n(0.0, 1.0);
-  auto random = [&](int rows, int cols) {
-    Eigen::MatrixXd m(rows, cols);
-    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
-    return m;
-  };
+  auto random = [&](int rows, int cols) { return randomMatrix(rows, cols, rng); };
   std::array<double, 3> x{0.1, 0.2, 0.3}, k1{1.0, -1.0, 0.5}, k2{-0.5, 0.4, 2.0};
   const Eigen::MatrixXd A1 = random(4, 3), A2 = random(4, 3);
   LinearCost c1({A1, -A1}, random(4, 1)), c2({A2, -A2}, random(4, 1));
