@@ -294,7 +294,7 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
 
 // A semi-definite Schur complement, as the estimator's always is (its position and yaw carry no
 // information): x meets k1 and k2 only through differences (r = A (x - k) - b), so H* over
-// [k1 | k2] is blind to moving both by the same amount. The LDLT's near-zero pivots are dropped:
+// [k1 | k2] is blind to moving both by the same amount. Its near-zero eigenvalues are dropped:
 // the prior keeps rank 3, its square-root and information forms are the dense H* and g*, and
 // it says nothing along the blind direction.
 TEST(Marginalization, SemiDefiniteSchurComplementKeepsItsRankOnly) {

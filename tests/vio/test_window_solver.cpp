@@ -322,8 +322,9 @@ TEST(WindowSolver, SpeedBiasChainGivesTheDenseStepsWithAndWithoutPrior) {
   auto a = Window::make(8, 0.5, 0.05), b = Window::make(8, 0.5, 0.05);
   expectChainMatchesDense(*a, *b, nullptr, nullptr, true);
   // After two marginalisations the prior holds the oldest frame's speed-bias and the poses. From
-  // fresh windows: a and b now differ by rounding, and so would the near-zero pivots of their
-  // priors (one kept above the floor, the other dropped), which is not what this compares.
+  // fresh windows: a and b now differ by rounding, and so would their priors' near-zero
+  // directions (the ill-conditioned part the comment above is about), which is not what this
+  // compares.
   a = Window::make(8, 0.5, 0.05), b = Window::make(8, 0.5, 0.05);
   auto prior_a = a->marginalizeFirst(nullptr), prior_b = b->marginalizeFirst(nullptr);
   prior_a = a->marginalizeFirst(prior_a);

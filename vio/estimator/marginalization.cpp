@@ -1,6 +1,5 @@
 #include "vio/estimator/marginalization.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -243,47 +242,34 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   }
   H_star = 0.5 * (H_star + H_star.transpose()).eval();
 
-  // Square-root form from a pivoted LDLT, H* = P^T L D L^T P (Eigen's LDLT pivots on the largest
-  // diagonal, made for semi-definite matrices: the directions without information come last with
-  // pivots near zero). With u = L^T P m and z = L^-1 P g*, the quadratic m^T H* m + 2 g*^T m is
-  // sum_i D_i u_i^2 + 2 z_i u_i = sum_i (sqrt(D_i) u_i + z_i / sqrt(D_i))^2 - const, so
-  //   J_p = D^1/2 L^T P, r_p = D^-1/2 z   over the pivots above the floor.
-  // A fifth of the eigen-decomposition's cost (on ~100-200 kept dimensions, once per keyframe).
-  // Pivots at or below the floor are dropped: the negative ones rounding left in the gauge
-  // directions (position and yaw, without information). The tiny positive ones (~1e-6) are kept
-  // as the eigen-decomposition kept its eigenvalues above the floor: a floor relative to the
-  // largest pivot (1e-10 of it) dropped them too and cost accuracy on the hybrid flights
-  // (0.0171 -> 0.0205 m on one; doc/results.md "CPU: where it goes").
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_star);
-  const Eigen::VectorXd D = ldlt.vectorD();
+  // H* = V S V^T. A pivoted LDLT (a fifth of the cost) was tried on 2026-11-29 and left: its
+  // near-zero pivots (the gauge: position and yaw) are rounding noise of +-1e-4 that falls on
+  // either side of the floor, so inputs that differ by rounding (a recorded copy of a sequence)
+  // gave priors of different rank and trajectories 1 mm apart; the eigenvalues there are stable.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(H_star);
   std::vector<int> rows;
   for (int k = 0; k < n_kept; ++k)
-    if (D(k) > eigenvalue_floor) rows.push_back(k);
+    if (es.eigenvalues()(k) > eigenvalue_floor) rows.push_back(k);
   if (rows.empty()) throw std::invalid_argument("Marginalizer: the prior carries no information");
-  Eigen::MatrixXd LtP = ldlt.matrixU();
-  LtP = LtP * ldlt.transpositionsP().transpose();  // L^T P: column swaps
-  Eigen::VectorXd z = ldlt.transpositionsP() * g_star;
-  ldlt.matrixL().solveInPlace(z);
 
   auto prior = std::make_shared<MarginalizationPrior>();
-  const int rank = static_cast<int>(rows.size());
-  prior->J.resize(rank, n_kept);
-  prior->r.resize(rank);
-  for (int i = 0; i < rank; ++i) {
-    const double s = std::sqrt(D(rows[static_cast<size_t>(i)]));
-    prior->J.row(i) = s * LtP.row(rows[static_cast<size_t>(i)]);
-    prior->r(i) = z(rows[static_cast<size_t>(i)]) / s;
+  prior->J.resize(static_cast<int>(rows.size()), n_kept);
+  prior->r.resize(static_cast<int>(rows.size()));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const double s = es.eigenvalues()(rows[i]);
+    const Eigen::VectorXd v = es.eigenvectors().col(rows[i]);
+    prior->J.row(static_cast<int>(i)) = std::sqrt(s) * v.transpose();
+    prior->r(static_cast<int>(i)) = v.dot(g_star) / std::sqrt(s);
   }
-  // Information form of the same quadratic: H* = sum_i D_i l_i l_i^T and g* = sum_i z_i l_i
-  // (l_i^T row i of L^T P), without the dropped pivots' terms.
+  // Information form of the same quadratic: H* and g* without the dropped eigen-directions.
   prior->H = H_star;
   prior->b = g_star;
   prior->c = prior->r.squaredNorm();
   for (int k = 0; k < n_kept; ++k) {
-    if (D(k) > eigenvalue_floor) continue;
-    const Eigen::VectorXd l = LtP.row(k).transpose();
-    prior->H.noalias() -= D(k) * l * l.transpose();
-    prior->b -= z(k) * l;
+    if (es.eigenvalues()(k) > eigenvalue_floor) continue;
+    const Eigen::VectorXd v = es.eigenvectors().col(k);
+    prior->H.noalias() -= es.eigenvalues()(k) * v * v.transpose();
+    prior->b -= v.dot(g_star) * v;
   }
   for (const Block& b : kept) {
     prior->blocks.push_back(b.address);

@@ -5,8 +5,7 @@
 //      does), Jacobians in each block's tangent space.
 //   3. H = J^T J, g = J^T r over [marginalised | kept]; Schur complement:
 //        H* = H_kk - H_km H_mm^+ H_mk,  g* = g_k - H_km H_mm^+ g_m.
-//   4. H* = P^T L D L^T P (pivoted LDLT) with pivots below a floor dropped: J_p = D^1/2 L^T P,
-//      r_p = D^-1/2 L^-1 P g*,
+//   4. H* = V S V^T with eigenvalues below a floor dropped: J_p = S^1/2 V^T, r_p = S^-1/2 V^T g*,
 //      so that |r_p + J_p dx|^2 = dx^T H* dx + 2 g*^T dx + const.
 // The prior is kept in both forms: the residual r = r_p + J_p (x [-] x0) (MarginalizationFactor,
 // a Ceres cost; [-] the blocks' manifold Minus, poses: PoseManifold) and the information form
