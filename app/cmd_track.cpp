@@ -157,7 +157,7 @@ void runTrack(const TrackArgs& a) {
     if (a.video.empty()) throw CLI::ValidationError("--segmenter", "masks need the images: give an INPUT, not --detections");
     tracking::DynamicMaskerOptions m = loadRunConfig(a.config_path).dynamic;
     m.detect_every = a.detect_every;
-    masker = std::make_unique<tracking::DynamicMasker>(m, tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder));
+    masker = std::make_unique<tracking::DynamicMasker>(m, tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder, m.grabcut));
     if (a.write_masks) fs::create_directories(fs::path(a.out_dir) / "masks");
   } else if (a.write_masks) {
     throw CLI::ValidationError("--masks", "needs --segmenter grabcut|box|mobilesam");

@@ -42,7 +42,7 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
     data::YamlOptionsReader m = d.child("motion_cue");
     MotionCueOptions& c = o.motion_cue;
     m.optional("cell_px", c.cell_px, 4, 1000);
-    m.optional("corner_quality", c.corner_quality, 0.0, 1.0);
+    m.optional("corner_quality", c.corner_quality, 1e-12, 1.0);  // MotionCue needs > 0
     m.optional("threshold_px", c.threshold_px, 0.01, 100.0);
     m.optional("strong_threshold_px", c.strong_threshold_px, 0.01, 1000.0);
     m.optional("translation_min_gain", c.translation_min_gain, 0.0, 1.0);
@@ -53,6 +53,19 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
     m.optional("box_margin", c.box_margin, 0.0, 10.0);
     if (c.strong_threshold_px < c.threshold_px) m.fail("strong_threshold_px", "must be at least threshold_px");
     m.finish();
+  }
+  if (d.has("grabcut")) {
+    data::YamlOptionsReader g = d.child("grabcut");
+    GrabCutOptions& c = o.grabcut;
+    g.optional("iterations", c.iterations, 1, 100);
+    g.optional("max_side", c.max_side, 16, 4096);
+    g.optional("prompted_iterations", c.prompted_iterations, 1, 100);
+    g.optional("prompted_max_side", c.prompted_max_side, 16, 4096);
+    g.optional("margin", c.margin, 0.0, 10.0);
+    g.optional("min_box_side", c.min_box_side, 0, 10000);
+    g.optional("min_foreground_fraction", c.min_foreground_fraction, 0.0, 0.99);
+    g.optional("point_radius_px", c.point_radius_px, 0.0, 1000.0);
+    g.finish();
   }
 }
 

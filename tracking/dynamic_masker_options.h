@@ -11,12 +11,15 @@
 //   (tracking/detect/motion_cue.h: cell_px, corner_quality, threshold_px, translation_min_gain,
 //   min_speed, ransac_iterations, group_radius_px, min_points, box_margin), used with --mask
 //   motion or --motion-cue; static_after_frames / static_min_points (tracking/object_motion.h:
-//   with the motion cue, a tracked object judged static this many frames is not masked; 0: never)
+//   with the motion cue, a tracked object judged static this many frames is not masked; 0: never);
+//   and the map grabcut: of the GrabCut segmenter's options (tracking/segment/grabcut_segmenter.h:
+//   iterations, max_side, prompted_iterations, prompted_max_side, margin, min_box_side, min_foreground_fraction, point_radius_px)
 #include <cstdint>
 
 #include "data/formats/yaml_options.h"
 #include "tracking/detect/motion_cue.h"
 #include "tracking/object_motion.h"
+#include "tracking/segment/grabcut_segmenter.h"
 #include "tracking/segment/mask_refinement.h"
 #include "tracking/sort/sort_tracker.h"
 
@@ -42,6 +45,7 @@ struct DynamicMaskerOptions {
   bool camera_motion_compensation = false;
   MotionCueOptions motion_cue;  // the class-free cue's, when it runs (--mask motion, --motion-cue)
   ObjectMotionOptions object_motion;  // with the cue: objects seen static keep their features
+  GrabCutOptions grabcut;             // of the default box segmenter
 };
 
 // Reads the keys above from `dynamic:` (unknown keys are left for the caller's finish()); errors

@@ -25,7 +25,8 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
   }
   if (options_.source == MaskSource::kDetector || options_.source == MaskSource::kMotion)
     masker_ = std::make_unique<tracking::DynamicMasker>(
-        options_.masker, tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder));
+        options_.masker, tracking::makeBoxSegmenter(options_.segmenter, options_.sam_encoder, options_.sam_decoder,
+                                                       options_.masker.grabcut));
   if (usesMotionCue(options_)) {
     motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.masker.motion_cue);
     object_motion_ = tracking::ObjectMotionClassifier(options_.masker.object_motion);

@@ -240,6 +240,35 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_DOUBLE_EQ(o.motion_cue.group_radius_px, 30);
   EXPECT_EQ(o.motion_cue.min_points, 4);
   EXPECT_DOUBLE_EQ(o.motion_cue.box_margin, 0.2);
+  EXPECT_EQ(o.grabcut.max_side, GrabCutOptions().max_side);  // no grabcut: map: the code's
+  data::YamlOptionsReader grabcut = data::YamlOptionsReader::fromString(
+      "grabcut:\n  iterations: 3\n  max_side: 128\n  prompted_iterations: 2\n  prompted_max_side: 64\n  margin: 0.2\n  min_box_side: 8\n"
+      "  min_foreground_fraction: 0.1\n  point_radius_px: 4\n",
+      "dynamic.yaml");
+  readDynamicMaskerOptions(grabcut, &o);
+  grabcut.finish();
+  EXPECT_EQ(o.grabcut.iterations, 3);
+  EXPECT_EQ(o.grabcut.max_side, 128);
+  EXPECT_EQ(o.grabcut.prompted_iterations, 2);
+  EXPECT_EQ(o.grabcut.prompted_max_side, 64);
+  EXPECT_DOUBLE_EQ(o.grabcut.margin, 0.2);
+  EXPECT_EQ(o.grabcut.min_box_side, 8);
+  EXPECT_DOUBLE_EQ(o.grabcut.min_foreground_fraction, 0.1);
+  EXPECT_DOUBLE_EQ(o.grabcut.point_radius_px, 4);
+  for (const char* text : {"grabcut:\n  max_side: 8\n", "grabcut:\n  iterations: 0\n", "grabcut:\n  max_sides: 64\n"}) {
+    data::YamlOptionsReader wrong = data::YamlOptionsReader::fromString(text, "dynamic.yaml");
+    try {
+      readDynamicMaskerOptions(wrong, &o);
+      wrong.finish();
+      FAIL() << text << " accepted";
+    } catch (const data::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("dynamic.yaml"), std::string::npos) << e.what();
+      EXPECT_TRUE(std::string(e.what()).find("max_side") != std::string::npos ||
+                  std::string(e.what()).find("iterations") != std::string::npos)
+          << e.what();
+    }
+  }
+
   for (const char* text : {"motion_cue:\n  threshold_px: 0\n", "motion_cue:\n  threshhold_px: 2\n",
                            "motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n"}) {
     data::YamlOptionsReader wrong = data::YamlOptionsReader::fromString(text, "dynamic.yaml");

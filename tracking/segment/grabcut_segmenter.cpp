@@ -8,7 +8,8 @@
 namespace adugs::tracking {
 
 GrabCutSegmenter::GrabCutSegmenter(const GrabCutOptions& options) : options_(options) {
-  if (options_.iterations < 1 || options_.max_side < 16 || options_.margin < 0 ||
+  if (options_.iterations < 1 || options_.max_side < 16 || options_.prompted_iterations < 1 ||
+      options_.prompted_max_side < 16 || options_.margin < 0 ||
       options_.min_foreground_fraction < 0 || options_.min_foreground_fraction >= 1)
     throw std::invalid_argument("GrabCutSegmenter: invalid options");
 }
@@ -47,8 +48,12 @@ cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const c
   grown.w *= 1 + 2 * options_.margin;
   grown.h *= 1 + 2 * options_.margin;
   const cv::Rect region = clippedRect(grown, bgr.cols, bgr.rows);
-  const double scale =
-      std::min(1.0, static_cast<double>(options_.max_side) / std::max(region.width, region.height));
+  const auto inBox = [&](const PointPrompt& p) {
+    return box_rect.contains(cv::Point(static_cast<int>(p.pixel.x), static_cast<int>(p.pixel.y)));
+  };
+  const bool prompted = std::any_of(points.begin(), points.end(), inBox);
+  const int max_side = prompted ? options_.prompted_max_side : options_.max_side;
+  const double scale = std::min(1.0, static_cast<double>(max_side) / std::max(region.width, region.height));
   cv::Mat small;
   cv::resize(bgr(region), small, cv::Size(), scale, scale, cv::INTER_AREA);
   cv::Rect box_small(cv::Point(static_cast<int>((box_rect.x - region.x) * scale),
@@ -68,15 +73,13 @@ cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const c
   cv::Mat labels(small.size(), CV_8UC1, cv::Scalar(cv::GC_BGD));
   labels(box_small).setTo(cv::GC_PR_FGD);
   const int radius = std::max(1, static_cast<int>(std::lround(options_.point_radius_px * scale)));
-  bool prompted = false;
   for (const PointPrompt& p : points) {
-    if (!box_rect.contains(cv::Point(static_cast<int>(p.pixel.x), static_cast<int>(p.pixel.y)))) continue;
+    if (!inBox(p)) continue;
     const cv::Point at(static_cast<int>((p.pixel.x - region.x) * scale), static_cast<int>((p.pixel.y - region.y) * scale));
     cv::circle(labels, at, radius, cv::Scalar(p.object ? cv::GC_FGD : cv::GC_BGD), cv::FILLED);
-    prompted = true;
   }
   cv::Mat bgd_model, fgd_model;
-  cv::grabCut(small, labels, box_small, bgd_model, fgd_model, options_.iterations,
+  cv::grabCut(small, labels, box_small, bgd_model, fgd_model, prompted ? options_.prompted_iterations : options_.iterations,
               prompted ? cv::GC_INIT_WITH_MASK : cv::GC_INIT_WITH_RECT);
   cv::Mat fg_small = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
   cv::Mat fg_region;

@@ -8,8 +8,8 @@
 namespace adugs::tracking {
 
 std::unique_ptr<BoxSegmenter> makeBoxSegmenter(const std::string& kind, const std::string& encoder,
-                                               const std::string& decoder) {
-  if (kind.empty() || kind == "grabcut") return std::make_unique<GrabCutSegmenter>();
+                                               const std::string& decoder, const GrabCutOptions& grabcut) {
+  if (kind.empty() || kind == "grabcut") return std::make_unique<GrabCutSegmenter>(grabcut);
   if (kind == "box") return std::make_unique<FilledBoxSegmenter>();
   if (kind == "mobilesam") {
     if (encoder.empty() || decoder.empty())

@@ -6,13 +6,16 @@
 #include <string>
 
 #include "tracking/segment/box_segmenter.h"
+#include "tracking/segment/grabcut_segmenter.h"
 
 namespace adugs::tracking {
 
 // Throws std::invalid_argument for an unknown kind or "mobilesam" without both paths, and
 // data::InputError (naming the file) for models that cannot be used or a build without libtorch.
+// grabcut: the GrabCut segmenter's options (the run config's dynamic: grabcut: map).
 std::unique_ptr<BoxSegmenter> makeBoxSegmenter(const std::string& kind = "grabcut",
                                                const std::string& encoder = "",
-                                               const std::string& decoder = "");
+                                               const std::string& decoder = "",
+                                               const GrabCutOptions& grabcut = {});
 
 }  // namespace adugs::tracking

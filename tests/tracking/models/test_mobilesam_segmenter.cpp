@@ -223,6 +223,9 @@ TEST(SegmenterFactory, BuildsEachKindAndRejectsBadRequests) {
   EXPECT_STREQ(makeBoxSegmenter()->name(), "grabcut");
   EXPECT_STREQ(makeBoxSegmenter("grabcut")->name(), "grabcut");
   EXPECT_STREQ(makeBoxSegmenter("box")->name(), "box");
+  GrabCutOptions too_small;  // the run config's options reach GrabCut, which checks them
+  too_small.max_side = 8;
+  EXPECT_THROW(makeBoxSegmenter("grabcut", "", "", too_small), std::invalid_argument);
   EXPECT_THROW(makeBoxSegmenter("mobilesam"), std::invalid_argument);
   EXPECT_THROW(makeBoxSegmenter("mobilesam", "enc.pt", ""), std::invalid_argument);
   EXPECT_THROW(makeBoxSegmenter("sam2"), std::invalid_argument);
