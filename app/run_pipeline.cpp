@@ -44,6 +44,7 @@ PipelineOptions pipelineOptions(const RunConfig& config, const data::OpenedSeque
   PipelineOptions o;
   o.masking = a.mask.masking;
   o.masking.mask_dir = sequence.mask_dir;
+  o.masking.objects_path = sequence.objects_path;
   o.masking.masker = config.dynamic;
   if (a.mask.detect_every > 0) o.masking.masker.detect_every = a.mask.detect_every;
   if (!o.masking.masker.track && o.masking.masker.detect_every != 1)
@@ -147,6 +148,23 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
   if (s.exact_pixels > 0)  // --mask detector on a sequence with the simulator's exact masks
     out << "dynamic_mask_vs_exact: {recall: " << s.exact_covered / s.exact_pixels
         << ", precision: " << (s.masked_pixels > 0 ? s.exact_covered / s.masked_pixels : 0.0) << "}\n";
+  if (!s.exact_by_class.empty()) {  // the simulator's movers, per class (COCO ids of objects0/gt.txt)
+    const auto name = [](int coco) -> std::string {
+      switch (coco) {
+        case 0: return "person";
+        case 2: return "car";
+        case 5: return "bus";
+        default: return "coco_" + std::to_string(coco);
+      }
+    };
+    out << "dynamic_mask_recall_per_class: {";
+    const char* separator = "";
+    for (const auto& [cls, pixels] : s.exact_by_class) {
+      out << separator << name(cls) << ": " << (pixels.first > 0 ? pixels.second / pixels.first : 0.0);
+      separator = ", ";
+    }
+    out << "}  # of the exact pixels inside each class's boxes (objects0/gt.txt)\n";
+  }
   if (s.exact_pixels > 0 && s.masked_motion + s.masked_detector > 0) {  // both cues: each one's share
     const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
     out << "dynamic_mask_vs_exact_per_cue: {detector: {recall: " << ratio(s.exact_covered_detector, s.exact_pixels)

@@ -1,6 +1,8 @@
 #include "app/pipeline/masking_stage.h"
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -30,6 +32,14 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
   if (usesMotionCue(options_)) {
     motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.masker.motion_cue);
     object_motion_ = tracking::ObjectMotionClassifier(options_.masker.object_motion);
+  }
+  if (masker_ && !options_.mask_dir.empty() && !options_.objects_path.empty()) {
+    objects_ = data::readMotFile(options_.objects_path);
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(options_.mask_dir))
+      if (entry.is_regular_file()) names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    for (size_t k = 0; k < names.size(); ++k) frame_of_mask_[names[k]] = static_cast<int>(k) + 1;
   }
 }
 
@@ -95,6 +105,25 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
     f->exact_pixels = cv::countNonZero(exact);
     f->exact_covered = cv::countNonZero(exact & r.mask);
     f->masked_pixels = cv::countNonZero(r.mask);
+    // Per mover class: the exact pixels inside the class's boxes (a pixel in boxes of two classes
+    // counts for both).
+    const auto frame_number = frame_of_mask_.find(std::filesystem::path(frame.path).filename().string());
+    const auto boxes = frame_number == frame_of_mask_.end() ? objects_.end() : objects_.find(frame_number->second);
+    if (boxes != objects_.end()) {
+      std::map<int, cv::Mat> in_boxes;
+      for (const data::MotBox& b : boxes->second) {
+        cv::Mat& area = in_boxes[b.class_id];
+        if (area.empty()) area = cv::Mat::zeros(exact.size(), CV_8UC1);
+        const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(b.left), static_cast<int>(b.top)),
+                                       cv::Size(static_cast<int>(b.width), static_cast<int>(b.height))) &
+                              cv::Rect(0, 0, exact.cols, exact.rows);
+        area(rect).setTo(255);
+      }
+      for (const auto& [cls, area] : in_boxes) {
+        const cv::Mat exact_in = exact & area;
+        f->exact_by_class[cls] = {cv::countNonZero(exact_in), cv::countNonZero(exact_in & r.mask)};
+      }
+    }
     if (motion_ && f->detections) {
       // Both cues prompt the one mask: each cue is credited with the mask inside its boxes.
       cv::Mat motion_boxes = cv::Mat::zeros(r.mask.size(), CV_8UC1), detector_boxes = motion_boxes.clone();

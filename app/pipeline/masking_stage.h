@@ -10,14 +10,17 @@
 // since the previous frame with the estimator's bias after frame k - 3 (app/pipeline/estimator_feedback.h): one frame further
 // back than the front-end's, so this stage can work a frame ahead of it.
 #include <Eigen/Geometry>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/pipeline/estimator_feedback.h"
 #include "app/pipeline/channel.h"
 #include "app/pipeline/mask_source.h"
 #include "app/pipeline/pipeline_frame.h"
 #include "data/camera_model.h"
+#include "data/formats/mot_io.h"
 #include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker.h"
 #include "vio/imu/gyro_rotation_predictor.h"
@@ -27,6 +30,7 @@ namespace adugs::app {
 struct MaskingOptions {
   MaskSource source = MaskSource::kNone;
   std::string mask_dir;       // the simulator's mav0/mask0/data folder ("" if the sequence has none)
+  std::string objects_path;   // its mav0/objects0/gt.txt: the recall per mover class ("" if none)
   std::string detector_model, detector_config;  // for the detection stage; darknet .cfg ("" = beside the .weights)
   std::string segmenter = "grabcut", sam_encoder, sam_decoder;
   tracking::DynamicMaskerOptions masker;  // SORT, detect_every, refinement, the motion cue's options (run config's dynamic:)
@@ -63,6 +67,10 @@ class MaskingStage {
   std::unique_ptr<tracking::MotionCue> motion_;
   tracking::ObjectMotionClassifier object_motion_;  // with the cue: which tracked objects stay still
   vio::GyroRotationPredictor gyro_;
+  // The movers' boxes per frame number (1-based, as in the MOT file) and the frame number of each
+  // exact mask's file name (the files in name order, one per frame).
+  std::map<int, std::vector<data::MotBox>> objects_;
+  std::map<std::string, int> frame_of_mask_;
   int64_t previous_t_ = -1;
 };
 

@@ -2,8 +2,10 @@
 // One camera frame on its way through the pipeline (app/pipeline/pipeline.h). Each stage fills its
 // part and moves the frame on to the next.
 #include <chrono>
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -39,6 +41,9 @@ struct PipelineFrame {
   // With both cues (--mask detector --motion-cue): the same, of the mask inside each cue's boxes
   // (the motion cue's: class tracking::kMovingClass; the detector's: every other class).
   double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
+  // Per mover class (COCO id, from the simulator's objects0/gt.txt): exact pixels inside the
+  // class's boxes, and of those the masked ones.
+  std::map<int, std::pair<double, double>> exact_by_class;
   size_t objects_seen_static = 0;  // with the motion cue: tracked objects judged static so far (not masked)
 
   // Front-end (app/pipeline/frontend_stage.h)

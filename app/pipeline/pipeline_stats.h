@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "app/pipeline/pipeline_frame.h"
@@ -31,6 +33,7 @@ struct PipelineStats {
   std::vector<double> dynamic_drop, masked_fraction, features;
   double exact_pixels = 0, exact_covered = 0, masked_pixels = 0;
   double exact_covered_motion = 0, masked_motion = 0, exact_covered_detector = 0, masked_detector = 0;
+  std::map<int, std::pair<double, double>> exact_by_class;  // COCO id -> (exact pixels in its boxes, masked)
   size_t objects_seen_static = 0;
 
   void record(const PipelineFrame& f, double latency) {
@@ -52,6 +55,10 @@ struct PipelineStats {
       masked_motion += f.masked_motion;
       exact_covered_detector += f.exact_covered_detector;
       masked_detector += f.masked_detector;
+      for (const auto& [cls, pixels] : f.exact_by_class) {
+        exact_by_class[cls].first += pixels.first;
+        exact_by_class[cls].second += pixels.second;
+      }
       objects_seen_static = f.objects_seen_static;
     }
   }

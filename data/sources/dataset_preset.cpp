@@ -128,6 +128,8 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
   const fs::path masks = fs::path(reader->mavDir()) / "mask0" / "data";
   std::error_code ec;
   if (fs::is_directory(masks, ec)) s.mask_dir = masks.string();
+  const fs::path objects = fs::path(reader->mavDir()) / "objects0" / "gt.txt";
+  if (!s.mask_dir.empty() && fs::is_regular_file(objects, ec)) s.objects_path = objects.string();
   const fs::path sim = fs::path(reader->mavDir()) / "sim.yaml";
   if (fs::is_regular_file(sim, ec)) {
     // Only the mode matters here; the other keys (scene, seed, ...) describe how it was made.

@@ -53,6 +53,7 @@ struct OpenedSequence {
   bool has_imu = true;   // false: a camera alone (video, webcam): vision only, no odometry
   std::string gt_path;   // ground-truth file to evaluate against ("" if none)
   std::string mask_dir;  // the simulator's per-frame dynamic masks (ASL folders only; "" if none)
+  std::string objects_path;  // beside them, the movers' boxes with their classes (mav0/objects0/gt.txt)
   // An ASL folder written by `adugs sim` with simulated IMU data (mav0/sim.yaml, mode: synthetic);
   // a hybrid one (rendered images along a real flight's IMU) is not.
   bool simulated = false;

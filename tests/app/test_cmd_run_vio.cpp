@@ -102,6 +102,10 @@ TEST(CmdRunVioMotionCue, MasksTheMoversOfTheRoomWithoutAModel) {
   const double precision = yamlNumberAfter(summary, ", precision: ");
   EXPECT_GE(recall, 0.5) << summary;     // 0.75 measured
   EXPECT_GE(precision, 0.4) << summary;  // 0.54 measured
+  // Per mover class, from the simulator's boxes (objects0/gt.txt): the room's movers are people.
+  const double people = yamlNumberAfter(summary, "dynamic_mask_recall_per_class: {person: ");
+  EXPECT_GE(people, 0.4) << summary;
+  EXPECT_LE(people, 1.0) << summary;
   EXPECT_GT(data::readTrajectory((out / "trajectory.tum").string()).size(), 30u);  // initialised after ~3 s
   EXPECT_GT(summaryNumber(out / "summary.yaml", "masked_image_fraction"), 0.0);
 
