@@ -15,6 +15,7 @@
 #include "app/source_lost.h"
 #include "calib/calibration_verdict.h"
 #include "data/input_error.h"
+#include "data/sim/sim_scene.h"
 #include "vio/estimator/sliding_window_estimator.h"
 
 namespace adugs::app {
@@ -149,13 +150,11 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
     out << "dynamic_mask_vs_exact: {recall: " << s.exact_covered / s.exact_pixels
         << ", precision: " << (s.masked_pixels > 0 ? s.exact_covered / s.masked_pixels : 0.0) << "}\n";
   if (!s.exact_by_class.empty()) {  // the simulator's movers, per class (COCO ids of objects0/gt.txt)
+    // The simulator's names for its classes' COCO ids.
     const auto name = [](int coco) -> std::string {
-      switch (coco) {
-        case 0: return "person";
-        case 2: return "car";
-        case 5: return "bus";
-        default: return "coco_" + std::to_string(coco);
-      }
+      for (data::SimObjectClass c : {data::SimObjectClass::kPerson, data::SimObjectClass::kCar, data::SimObjectClass::kBus})
+        if (data::cocoClassId(c) == coco) return data::toString(c);
+      return "coco_" + std::to_string(coco);
     };
     out << "dynamic_mask_recall_per_class: {";
     const char* separator = "";
