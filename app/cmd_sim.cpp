@@ -59,6 +59,10 @@ void registerSimCommand(CLI::App& root) {
                   "detectors recognise)")
       ->check(CLI::IsMember({"boxes", "walkers"}))
       ->capture_default_str();
+  cmd->add_option("--standing", o.standing,
+                  "people standing still, and in the street as many cars parked at the kerbs: of the detector's "
+                  "classes but static, so not in the exact masks (objects0/gt.txt: conf 0, MOTChallenge's ignore)")
+      ->capture_default_str();
   cmd->add_option("--walkers", o.walkers_dir, "--people walkers: sprite folder (default: the one the build cut)");
   cmd->add_option("--seed", o.seed, "random seed (world, path, objects, noise)")->capture_default_str();
   cmd->add_option("--duration", o.duration_s,

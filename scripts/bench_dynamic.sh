@@ -17,6 +17,7 @@
 #          [--sam-encoder E.pt --sam-decoder D.pt] [--no-heatmap] [--results doc/results.md]
 #          [--ablation-levels "mid high"] [--candidate NAME=KEY:VALUE[,KEY:VALUE...]]...
 #          [--candidate-levels "mid high"] [--no-ablation] [--no-motion] [--class-config data/config/sim.yaml]
+#          [--standing N]
 # --results: writes the tables and the heatmap into that file (between the bench_dynamic markers)
 # and doc/images/; without it they are in DIR/report.md and DIR/heatmap.png.
 # --ablation-levels: the levels of the SORT ablation's runs (default: all); --no-ablation: none.
@@ -25,6 +26,8 @@
 # and compared with the default chain seed by seed on the same sequences.
 # --class-config: every run starts from this run config (e.g. the simulator class's, which a run
 # without --config takes) instead of the defaults in code; the options above go on top of it.
+# --standing N: every sequence also has N people standing still and, in the street, N parked cars
+# (`adugs sim --standing`): of the detector's classes but static, so not in the exact masks.
 # ADUGS=path/to/adugs runs another binary (e.g. a copy, so that rebuilding does not change a
 # running benchmark).
 set -euo pipefail
@@ -38,7 +41,7 @@ duration=20
 detector="$root/../shared/models/yolox_nano/yolox_nano.onnx"
 jobs=$(nproc)
 sam_encoder="" sam_decoder="" results="" heatmap=1 candidates="" candidate_levels="" ablation_levels="" ablation=1
-class_config="" motion=1
+class_config="" motion=1 standing=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
@@ -58,6 +61,7 @@ while [ $# -gt 0 ]; do
     --candidate-levels) candidate_levels="$2"; shift 2 ;;
     --ablation-levels) ablation_levels="$2"; shift 2 ;;
     --class-config) class_config="$2"; shift 2 ;;
+    --standing) standing="$2"; shift 2 ;;
     *) echo "bench_dynamic: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -111,11 +115,11 @@ ablation_levels="${ablation_levels:-$levels}"
 sim_one() {  # scene seed
   local dir="$out/seq/$1_s$2"
   [ -f "$dir/.done" ] && return 0
-  "$adugs" sim --scene "$1" --level all --seed "$2" --people walkers --duration "$duration" --out "$dir" \
-    > "$dir.log" 2>&1 && touch "$dir/.done"
+  "$adugs" sim --scene "$1" --level all --seed "$2" --people walkers --standing "$standing" --duration "$duration" \
+    --out "$dir" > "$dir.log" 2>&1 && touch "$dir/.done"
 }
 export -f sim_one
-export out adugs duration
+export out adugs duration standing
 echo "bench_dynamic: simulating $(echo $scenes | wc -w) scenes x $(echo $seeds | wc -w) seeds x 4 levels" >&2
 SHELL=/bin/bash parallel --will-cite -j "$jobs" --halt soon,fail=1 sim_one ::: $scenes ::: $seeds
 
@@ -180,4 +184,4 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --joblog "$out/joblog" < "$out/r
   --levels "$levels" --modes "$modes" --nmax "$nmax_values" --dmin "$dmin_values" \
   --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"} \
   --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels" \
-  --class-config "$class_config"
+  --class-config "$class_config" --standing "$standing"

@@ -112,6 +112,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
     if (boxes != objects_.end()) {
       std::map<int, cv::Mat> in_boxes;
       for (const data::MotBox& b : boxes->second) {
+        if (b.confidence == 0) continue;  // the simulator's standing objects (MOT's "ignore"): no movers
         cv::Mat& area = in_boxes[b.class_id];
         if (area.empty()) area = cv::Mat::zeros(exact.size(), CV_8UC1);
         const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(b.left), static_cast<int>(b.top)),

@@ -144,7 +144,7 @@ void SimRenderer::render(const SimScene& scene, const SimCameraPoseFn& T_W_C, in
     const int q = quad_[static_cast<size_t>(i)];
     const int obj = q >= 0 ? quads_[static_cast<size_t>(q)].object : 0;
     ids[i] = static_cast<uint16_t>(obj);
-    mask[i] = obj > 0 ? 255 : 0;
+    mask[i] = obj > 0 && scene.objects[static_cast<size_t>(obj - 1)].moves() ? 255 : 0;
   }
   for (int i = 0; i < n_; ++i)
     if (ids[i] > 0) ++stats[static_cast<size_t>(ids[i] - 1)].visible;
@@ -154,6 +154,7 @@ void SimRenderer::render(const SimScene& scene, const SimCameraPoseFn& T_W_C, in
     SimObjectBox b;
     b.id = s.id;
     b.cls = s.cls;
+    b.moving = scene.objects[static_cast<size_t>(s.id - 1)].moves();
     b.box = cv::Rect(s.x0, s.y0, s.x1 - s.x0 + 1, s.y1 - s.y0 + 1);
     b.total_pixels = s.total;
     b.visible_pixels = s.visible;

@@ -8,8 +8,8 @@
 // (z-buffer). Only the winning surface is shaded: trilinear (mip-mapped bilinear) texture lookup
 // with the level chosen from the pixel footprint, so distant and grazing surfaces are low-pass
 // filtered as a real lens/sensor would and KLT sees no texture aliasing.
-// The same pass yields exact ground truth: the id of the object seen at each pixel centre (the
-// dynamic mask), each object's full silhouette (box ignoring occluders) and its visible fraction.
+// The same pass yields exact ground truth: the id of the object seen at each pixel centre (those
+// of moving objects: the dynamic mask), each object's full silhouette (box ignoring occluders) and its visible fraction.
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -46,13 +46,14 @@ struct SimObjectBox {
   cv::Rect box;             // pixels the object would cover without occluders, clipped to the image
   int total_pixels = 0;     // pixel centres inside that unoccluded silhouette (in the image)
   int visible_pixels = 0;   // pixel centres where the object is the nearest surface
+  bool moving = true;       // false: standing (SimObjectMotion::kStanding), not in the dynamic mask
   double visibility() const { return total_pixels > 0 ? double(visible_pixels) / total_pixels : 0.0; }
 };
 
 struct SimFrame {
   cv::Mat image;       // CV_8UC1
   cv::Mat object_ids;  // CV_16UC1: object id at the pixel centre, 0 = static world / sky
-  cv::Mat mask;        // CV_8UC1: 255 where object_ids > 0
+  cv::Mat mask;        // CV_8UC1: 255 where object_ids is a moving object (the dynamic mask)
   cv::Mat depth;       // CV_32FC1: z-depth of the nearest surface [m], +inf for sky (and
                        // outside a fisheye's image circle)
   std::vector<SimObjectBox> boxes;  // objects with at least one pixel in the image (by id)

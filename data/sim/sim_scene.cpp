@@ -14,7 +14,7 @@ namespace {
 constexpr int kStaticTextureSize = 512;
 constexpr int kObjectTextureSize = 256;
 // Independent random streams per purpose: the static world never depends on the level.
-constexpr uint64_t kStreamTrajectory = 11, kStreamWorld = 12, kStreamObjects = 13;
+constexpr uint64_t kStreamTrajectory = 11, kStreamWorld = 12, kStreamObjects = 13, kStreamStanding = 14;
 
 const Eigen::Vector3d kUp = Eigen::Vector3d::UnitZ();
 
@@ -374,6 +374,9 @@ bool SimObject::poseAt(int64_t t_ns, Eigen::Isometry3d* T_W_O) const {
     p = m.center + Eigen::Vector3d(m.radius_x * std::cos(a), m.radius_y * std::sin(a), 0);
     heading = Eigen::Vector3d(-m.radius_x * std::sin(a), m.radius_y * std::cos(a), 0) *
               (m.angular_speed >= 0 ? 1.0 : -1.0);
+  } else if (m.kind == SimObjectMotion::Kind::kStanding) {
+    p = m.center;
+    heading = Eigen::Vector3d(std::cos(m.angle0), std::sin(m.angle0), 0);
   } else {
     const SimObjectPass* pass = nullptr;
     for (const SimObjectPass& candidate : m.passes)
@@ -703,6 +706,59 @@ void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
         addClosePasses(f, SimObjectClass::kPerson, spec.pass_period_s, spec.pass_distance + 0.4,
                        1.1 * v, 3.5, z, body_path, T_B_C);
     }
+  }
+}
+
+void addStandingObjects(SimScene& scene, int count, uint64_t seed, const SimTrajectory& body_path,
+                        const SimWalkerSet* walkers) {
+  if (count <= 0) return;
+  SimRng rng = SimRng::derive(seed, kStreamStanding);
+  const bool use_walkers = walkers && !walkers->cycles.empty();
+  if (use_walkers && scene.walk_cycles.empty()) {  // level none: no walker added them yet
+    scene.sprites = walkers->sprites;
+    scene.walk_cycles = walkers->cycles;
+  }
+  ObjectFactory f(scene, rng, body_path, use_walkers);
+  std::vector<Eigen::Vector3d> path;
+  for (const auto& s : f.samples()) path.push_back(s.second);
+  const Eigen::AlignedBox3d b = pathBounds(path);
+  const double z = scene.floor_z;
+  // Places `n` objects of `cls` at random in `area`, facing along x (or anywhere when !along_x).
+  auto place = [&](SimObjectClass cls, int n, const Eigen::AlignedBox2d& area, double height, bool along_x) {
+    for (int added = 0, attempt = 0; added < n && attempt < 200; ++attempt) {
+      SimObject o = f.make(cls);
+      o.motion.kind = SimObjectMotion::Kind::kStanding;
+      o.motion.speed = 0;
+      o.motion.center = {rng.uniform(area.min().x(), area.max().x()), rng.uniform(area.min().y(), area.max().y()), height};
+      o.motion.angle0 = along_x ? (rng.uniform() < 0.5 ? 0.0 : M_PI) : rng.uniform(0, 2 * M_PI);
+      if (f.clearance(o) < f.required(o)) continue;
+      // Apart from the ones already standing (two parked cars in one place would show as one).
+      bool apart = true;
+      for (const SimObject& other : scene.objects)
+        if (!other.moves() && (other.motion.center - o.motion.center).head<2>().norm() <
+                                  f.required(other) + f.required(o))
+          apart = false;
+      if (!apart) continue;
+      f.add(std::move(o));
+      ++added;
+    }
+  };
+  if (scene.name == "street") {
+    // People waiting on both sidewalks; cars parked at both kerbs (the lanes' outer edges).
+    const double road0 = b.min().y() - 6, road1 = b.max().y() + 6;
+    const double x0 = b.min().x() - 30, x1 = b.max().x() + 30;
+    place(SimObjectClass::kPerson, (count + 1) / 2,
+          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 - 3.0), Eigen::Vector2d(x1, road0 - 0.5)), z + 0.12, false);
+    place(SimObjectClass::kPerson, count / 2,
+          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 + 0.5), Eigen::Vector2d(x1, road1 + 3.0)), z + 0.12, false);
+    place(SimObjectClass::kCar, (count + 1) / 2,
+          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 + 0.9), Eigen::Vector2d(x1, road0 + 1.1)), z, true);
+    place(SimObjectClass::kCar, count / 2,
+          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 - 1.1), Eigen::Vector2d(x1, road1 - 0.9)), z, true);
+  } else {
+    place(SimObjectClass::kPerson, count,
+          Eigen::AlignedBox2d(b.min().head<2>() - Eigen::Vector2d(1.8, 1.8), b.max().head<2>() + Eigen::Vector2d(1.8, 1.8)),
+          z, false);
   }
 }
 

@@ -64,7 +64,9 @@ struct SimObjectPass {
 };
 
 struct SimObjectMotion {
-  enum class Kind { kPingPong, kEllipse, kPasses };
+  // kStanding: at `center` for the whole sequence, facing angle0 (a parked car, a person waiting):
+  // an object of a mover class that does not move, so not in the exact dynamic masks.
+  enum class Kind { kPingPong, kEllipse, kPasses, kStanding };
   Kind kind = Kind::kPingPong;
   int64_t origin_ns = 0;  // time of phase 0
   // kPingPong: back and forth between a and b at `speed`, starting `phase` metres along.
@@ -92,6 +94,7 @@ struct SimObject {
 
   // False when the object is absent at t (between passes).
   bool poseAt(int64_t t_ns, Eigen::Isometry3d* T_W_O) const;
+  bool moves() const { return motion.kind != SimObjectMotion::Kind::kStanding; }
 };
 
 struct SimScene {
@@ -145,6 +148,13 @@ SimScene buildStaticScene(const std::string& scene, uint64_t seed, const SimTraj
 void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
                        const SimTrajectory& body_path, const Eigen::Isometry3d& T_B_C,
                        const SimWalkerSet* walkers = nullptr);
+
+// Adds `count` people standing still and, in the street, as many parked cars at the kerb, kept
+// clear of the camera path: objects of the detector's classes that do not move (issue 30's scene
+// with parked cars and people waiting). Their own random stream: the moving objects of a seed stay
+// as they are. With `walkers`, the people are cut-outs of real people (a still frame of a cycle).
+void addStandingObjects(SimScene& scene, int count, uint64_t seed, const SimTrajectory& body_path,
+                        const SimWalkerSet* walkers = nullptr);
 
 // The quad (world frame) that draws walker `object` at time t: upright at its bottom centre,
 // turned about the vertical toward the camera at camera_W, the cycle frame of time t (played

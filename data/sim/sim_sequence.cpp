@@ -142,7 +142,7 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
   for (const SimObject& obj : scene.objects)
     s << "  - {id: " << obj.id << ", class: " << toString(obj.cls) << ", coco_class: "
       << cocoClassId(obj.cls) << ", size: [" << obj.size.x() << ", " << obj.size.y() << ", "
-      << obj.size.z() << "]}\n";
+      << obj.size.z() << "]" << (obj.moves() ? "" : ", moving: false") << "}\n";
   return s.str();
 }
 
@@ -159,6 +159,8 @@ void checkOptions(const SimSequenceOptions& o) {
   const int given = !o.trajectory_path.empty() + !o.imu_path.empty() + !o.calib_path.empty();
   if (given != 0 && given != 3)
     throw InputError("command line", 0, "--trajectory/--imu/--calib", "hybrid mode needs all three files");
+  if (o.standing < 0 || o.standing > 100)
+    throw InputError("command line", 0, "--standing", "must be in [0, 100] (people standing still, and as many parked cars in the street)");
   if (o.people != "boxes" && o.people != "walkers")
     throw InputError("command line", 0, "--people", "unknown '" + o.people + "' (use boxes or walkers)");
   if (isHybrid(o) && o.motion != "glide")
@@ -185,6 +187,7 @@ void generateSimSequence(const SimSequenceOptions& o, const std::string& out_roo
     walkers = loadWalkerSet(dir);
   }
   addDynamicObjects(scene, o.level, o.seed, *p.trajectory, p.T_B_C, o.people == "walkers" ? &walkers : nullptr);
+  addStandingObjects(scene, o.standing, o.seed, *p.trajectory, o.people == "walkers" ? &walkers : nullptr);
 
   SimSequenceWriter writer(out_root, calibrationFromSimCamera(p.camera, p.T_B_C, p.camera_rate_hz),
                            p.imu_noise);

@@ -49,6 +49,9 @@ struct SimSequenceOptions {
   // recognise them), from walkers_dir ("" = defaultWalkersDir(), cut from vtest.avi at build time).
   std::string people = "boxes";
   std::string walkers_dir;
+  // People standing still and, in the street, as many parked cars (addStandingObjects): objects
+  // of the detector's classes that are not in the dynamic masks. 0 = none.
+  int standing = 0;
   bool progress = true;        // progress lines on stderr
 };
 

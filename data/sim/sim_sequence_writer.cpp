@@ -13,8 +13,10 @@ namespace fs = std::filesystem;
 
 std::string formatMotRow(int frame, const SimObjectBox& b) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "%d,%d,%d,%d,%d,%d,1,%d,%.4f", frame, b.id, b.box.x + 1, b.box.y + 1,
-                b.box.width, b.box.height, cocoClassId(b.cls), b.visibility());
+  // conf 0 for a standing object: MOTChallenge's "ignore" flag (as its static people), neither a
+  // target nor a false positive for eval-mot, and not a mover for the per-class recall.
+  std::snprintf(buf, sizeof buf, "%d,%d,%d,%d,%d,%d,%d,%d,%.4f", frame, b.id, b.box.x + 1, b.box.y + 1,
+                b.box.width, b.box.height, b.moving ? 1 : 0, cocoClassId(b.cls), b.visibility());
   return buf;
 }
 

@@ -47,7 +47,7 @@ class SimSequenceWriter {
 
 // "frame,id,bb_left,bb_top,bb_width,bb_height,conf,class,visibility" (no newline). bb_left/bb_top
 // are 1-based pixel coordinates as in MOTChallenge; class is the COCO id; visibility the visible
-// fraction.
+// fraction; conf is 1 for a moving object, 0 (MOTChallenge: ignore) for a standing one.
 std::string formatMotRow(int frame, const SimObjectBox& box);
 
 }  // namespace adugs::data

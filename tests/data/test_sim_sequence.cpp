@@ -1,9 +1,11 @@
 // End-to-end sequence generation: the EuRoC reader loads it, masks and MOT rows are there, the
 // bytes are deterministic, hybrid mode follows the shared V1_01 data, bad input is an InputError.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -113,6 +115,64 @@ TEST(SimSequence, SameSeedSameBytes) {
     ++compared;
   }
   EXPECT_GT(compared, 10);
+}
+
+// MOT rows of a sequence's objects0/gt.txt as {frame, id, x, y, w, h, conf, class} (visibility
+// dropped: occluders change it).
+std::vector<std::array<int, 8>> motRows(const fs::path& root) {
+  std::ifstream mot(root / "mav0/objects0/gt.txt");
+  std::vector<std::array<int, 8>> rows;
+  std::string line;
+  while (std::getline(mot, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::array<int, 8> r{};
+    double visibility;
+    if (std::sscanf(line.c_str(), "%d,%d,%d,%d,%d,%d,%d,%d,%lf", &r[0], &r[1], &r[2], &r[3], &r[4], &r[5], &r[6],
+                    &r[7], &visibility) == 9)
+      rows.push_back(r);
+  }
+  return rows;
+}
+
+// Issue 30's scene with parked cars and people waiting: they are drawn and boxed, flagged "ignore"
+// (conf 0) and left out of the dynamic masks; the moving objects of the seed do not change.
+TEST(SimSequence, StandingObjectsAreDrawnButNotMasked) {
+  test::TempDir dir("adugs_sim_standing");
+  SimSequenceOptions o = smallOptions();
+  o.duration_s = 0.5;
+  o.level = SimLevel::kNone;
+  o.standing = 6;
+  std::set<int> classes;
+  int masks = 0;
+  for (const std::string scene : {"street", "room"}) {  // parked cars in the first 0.5 s; people
+    o.scene = scene;
+    generateSimSequence(o, (dir / ("none_" + scene)).string());
+    for (const auto& r : motRows(dir / ("none_" + scene))) {
+      EXPECT_EQ(r[6], 0) << scene << " frame " << r[0] << " object " << r[1] << " is not flagged static";
+      classes.insert(r[7]);
+    }
+    for (const auto& e : fs::directory_iterator(dir / ("none_" + scene) / "mav0/mask0/data")) {
+      EXPECT_EQ(cv::countNonZero(cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE)), 0) << e.path();
+      ++masks;
+    }
+  }
+  EXPECT_EQ(classes, (std::set<int>{0, 2})) << "people and parked cars in view";
+  EXPECT_EQ(masks, 22);
+  o.scene = "street";
+  const std::string info = readAll(dir / "none_street/mav0/sim.yaml");
+  EXPECT_NE(info.find("class: car, coco_class: 2"), std::string::npos) << info;
+  EXPECT_NE(info.find("moving: false"), std::string::npos) << info;
+
+  // At level high the movers are the same with and without the standing objects.
+  o.level = SimLevel::kHigh;
+  generateSimSequence(o, (dir / "high_standing").string());
+  o.standing = 0;
+  generateSimSequence(o, (dir / "high").string());
+  std::vector<std::array<int, 8>> movers;
+  for (const auto& r : motRows(dir / "high_standing"))
+    if (r[6] == 1) movers.push_back(r);
+  EXPECT_FALSE(movers.empty());
+  EXPECT_EQ(movers, motRows(dir / "high"));
 }
 
 TEST(SimSequence, HybridFollowsSharedV101) {
@@ -341,6 +401,14 @@ TEST(SimSequence, BadInputIsInputError) {
   }
   o.motion = "glide";
   o.trajectory_path = (dir / "missing.csv").string();
+  SimSequenceOptions standing = smallOptions();
+  standing.standing = -1;
+  try {
+    generateSimSequence(standing, (dir / "out_standing").string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--standing"), std::string::npos) << e.what();
+  }
 
   // An IMU stream that stops after 0.5 s cannot serve a 1 s trajectory.
   std::ifstream in(root / "mav0/imu0/data.csv");
