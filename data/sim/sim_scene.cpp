@@ -127,11 +127,27 @@ void buildRoom(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d>&
   }
 }
 
+// The street's layout from the camera path's bounds: the road's edges 6 m beside the path (lanes
+// 3 m from it), sidewalks beyond them; objects on the 30 m of street before and after the path.
+struct StreetLayout {
+  double road0, road1, x0, x1;
+  explicit StreetLayout(const Eigen::AlignedBox3d& path)
+      : road0(path.min().y() - 6), road1(path.max().y() + 6), x0(path.min().x() - 30), x1(path.max().x() + 30) {}
+  // Strip along the street between y0 and y1.
+  Eigen::AlignedBox2d strip(double y0, double y1) const {
+    return Eigen::AlignedBox2d(Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y1));
+  }
+  Eigen::AlignedBox2d nearSidewalk() const { return strip(road0 - 3.0, road0 - 0.5); }
+  Eigen::AlignedBox2d farSidewalk() const { return strip(road1 + 0.5, road1 + 3.0); }
+};
+constexpr double kSidewalkHeight = 0.12;
+
 void buildStreet(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d>& path) {
   const Eigen::AlignedBox3d b = pathBounds(path);
   const double x0 = b.min().x() - 35, x1 = b.max().x() + 35;
-  const double road0 = b.min().y() - 6, road1 = b.max().y() + 6;  // lanes 3 m from the path
-  const double side0 = road0 - 3.5, side1 = road1 + 3.5;            // facades behind sidewalks
+  const StreetLayout street(b);
+  const double road0 = street.road0, road1 = street.road1;
+  const double side0 = road0 - 3.5, side1 = road1 + 3.5;  // facades behind sidewalks
   const double z0 = std::min(0.0, b.min().z() - 1.2);
   scene.floor_z = z0;
   scene.background = 215.0f;  // sky
@@ -149,15 +165,15 @@ void buildStreet(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d
   // Road: the lane marks run along x, the road texture tile is 8 m.
   scene.static_quads.push_back(makeFacingQuad({cx, (road0 + road1) / 2, z0}, kUp, Eigen::Vector3d::UnitY(),
                                               x1 - x0, road1 - road0, road_tex, 64));
-  scene.static_quads.push_back(makeFacingQuad({cx, (side0 + road0) / 2, z0 + 0.12}, kUp,
+  scene.static_quads.push_back(makeFacingQuad({cx, (side0 + road0) / 2, z0 + kSidewalkHeight}, kUp,
                                               Eigen::Vector3d::UnitX(), x1 - x0, road0 - side0, walk_tex, 128));
-  scene.static_quads.push_back(makeFacingQuad({cx, (road1 + side1) / 2, z0 + 0.12}, kUp,
+  scene.static_quads.push_back(makeFacingQuad({cx, (road1 + side1) / 2, z0 + kSidewalkHeight}, kUp,
                                               Eigen::Vector3d::UnitX(), x1 - x0, side1 - road1, walk_tex, 128));
   // Kerbs: the vertical step between road and sidewalks.
   scene.static_quads.push_back(makeFacingQuad({cx, road0, z0 + 0.06}, Eigen::Vector3d::UnitY(), kUp,
-                                              x1 - x0, 0.12, brick_tex, 200));
+                                              x1 - x0, kSidewalkHeight, brick_tex, 200));
   scene.static_quads.push_back(makeFacingQuad({cx, road1, z0 + 0.06}, -Eigen::Vector3d::UnitY(), kUp,
-                                              x1 - x0, 0.12, brick_tex, 200));
+                                              x1 - x0, kSidewalkHeight, brick_tex, 200));
 
   // Facades: buildings of random width and height on both sides, and closing the street ends.
   auto pickFacade = [&]() {
@@ -194,7 +210,7 @@ void buildStreet(SimScene& scene, SimRng& rng, const std::vector<Eigen::Vector3d
                                              : Eigen::Vector3d(0.2, 0.2, 4.0);
     const bool left = rng.uniform() < 0.5;
     const double y = left ? rng.uniform(side0 + 1.0, road0 - 0.5) : rng.uniform(road1 + 0.5, side1 - 1.0);
-    const Eigen::Vector3d at(rng.uniform(x0 + 3, x1 - 3), y, z0 + 0.12);
+    const Eigen::Vector3d at(rng.uniform(x0 + 3, x1 - 3), y, z0 + kSidewalkHeight);
     if (tryAddStaticBox(scene, path, at, size, kind == 2 ? brick_tex : poster_tex, 2.0, 200)) ++placed;
   }
 }
@@ -577,6 +593,7 @@ class ObjectFactory {
   std::vector<std::pair<int64_t, Eigen::Vector3d>> samples_;
 };
 
+
 // Random walkers / drivers on ping-pong or ellipse paths inside `area` (ground z), kept clear of
 // the camera path.
 void addWanderers(ObjectFactory& f, SimObjectClass cls, int count, const Eigen::AlignedBox2d& area,
@@ -673,21 +690,16 @@ void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
   const double z = scene.floor_z;
   const double v = spec.speed_scale;
   if (scene.name == "street") {
-    const double road0 = b.min().y() - 6, road1 = b.max().y() + 6;
-    const double x0 = b.min().x() - 30, x1 = b.max().x() + 30;
+    const StreetLayout street(b);
     // People on the sidewalks, cars and buses in the lanes 3 m from the path.
-    addWanderers(f, SimObjectClass::kPerson, spec.people,
-                 Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 - 3.0), Eigen::Vector2d(x1, road0 - 0.5)),
-                 z + 0.12, 0.8 * v, 1.6 * v, true);
-    addWanderers(f, SimObjectClass::kPerson, spec.people / 2,
-                 Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 + 0.5), Eigen::Vector2d(x1, road1 + 3.0)),
-                 z + 0.12, 0.8 * v, 1.6 * v, true);
-    addWanderers(f, SimObjectClass::kCar, spec.cars,
-                 Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 + 1.2), Eigen::Vector2d(x1, road0 + 3.6)),
-                 z, 4.0 * v, 9.0 * v, true);
-    addWanderers(f, SimObjectClass::kBus, spec.buses,
-                 Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 - 3.6), Eigen::Vector2d(x1, road1 - 1.6)),
-                 z, 3.0 * v, 6.0 * v, true);
+    addWanderers(f, SimObjectClass::kPerson, spec.people, street.nearSidewalk(), z + kSidewalkHeight, 0.8 * v,
+                 1.6 * v, true);
+    addWanderers(f, SimObjectClass::kPerson, spec.people / 2, street.farSidewalk(), z + kSidewalkHeight, 0.8 * v,
+                 1.6 * v, true);
+    addWanderers(f, SimObjectClass::kCar, spec.cars, street.strip(street.road0 + 1.2, street.road0 + 3.6), z,
+                 4.0 * v, 9.0 * v, true);
+    addWanderers(f, SimObjectClass::kBus, spec.buses, street.strip(street.road1 - 3.6, street.road1 - 1.6), z,
+                 3.0 * v, 6.0 * v, true);
     if (spec.pass_period_s > 0) {
       addClosePasses(f, SimObjectClass::kCar, spec.pass_period_s, spec.pass_distance, 6.0 * v, 15,
                      z, body_path, T_B_C);
@@ -745,16 +757,11 @@ void addStandingObjects(SimScene& scene, int count, uint64_t seed, const SimTraj
   };
   if (scene.name == "street") {
     // People waiting on both sidewalks; cars parked at both kerbs (the lanes' outer edges).
-    const double road0 = b.min().y() - 6, road1 = b.max().y() + 6;
-    const double x0 = b.min().x() - 30, x1 = b.max().x() + 30;
-    place(SimObjectClass::kPerson, (count + 1) / 2,
-          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 - 3.0), Eigen::Vector2d(x1, road0 - 0.5)), z + 0.12, false);
-    place(SimObjectClass::kPerson, count / 2,
-          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 + 0.5), Eigen::Vector2d(x1, road1 + 3.0)), z + 0.12, false);
-    place(SimObjectClass::kCar, (count + 1) / 2,
-          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road0 + 0.9), Eigen::Vector2d(x1, road0 + 1.1)), z, true);
-    place(SimObjectClass::kCar, count / 2,
-          Eigen::AlignedBox2d(Eigen::Vector2d(x0, road1 - 1.1), Eigen::Vector2d(x1, road1 - 0.9)), z, true);
+    const StreetLayout street(b);
+    place(SimObjectClass::kPerson, (count + 1) / 2, street.nearSidewalk(), z + kSidewalkHeight, false);
+    place(SimObjectClass::kPerson, count / 2, street.farSidewalk(), z + kSidewalkHeight, false);
+    place(SimObjectClass::kCar, (count + 1) / 2, street.strip(street.road0 + 0.9, street.road0 + 1.1), z, true);
+    place(SimObjectClass::kCar, count / 2, street.strip(street.road1 - 1.1, street.road1 - 0.9), z, true);
   } else {
     place(SimObjectClass::kPerson, count,
           Eigen::AlignedBox2d(b.min().head<2>() - Eigen::Vector2d(1.8, 1.8), b.max().head<2>() + Eigen::Vector2d(1.8, 1.8)),
