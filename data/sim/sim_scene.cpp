@@ -536,8 +536,13 @@ Eigen::Vector3d objectSize(SimObjectClass cls, SimRng& rng) {
 
 class ObjectFactory {
  public:
-  ObjectFactory(SimScene& scene, SimRng& rng, const SimTrajectory& path, bool walkers)
-      : scene_(scene), rng_(rng), path_(path), walkers_(walkers) {
+  // walkers: people are cut-outs from this set (its sprites are added to the scene once).
+  ObjectFactory(SimScene& scene, SimRng& rng, const SimTrajectory& path, const SimWalkerSet* walkers)
+      : scene_(scene), rng_(rng), path_(path), walkers_(walkers && !walkers->cycles.empty()) {
+    if (walkers_ && scene_.walk_cycles.empty()) {
+      scene_.sprites = walkers->sprites;
+      scene_.walk_cycles = walkers->cycles;
+    }
     for (int i = 0; i < 6; ++i)
       person_tex_.push_back(scene_.addTexture(makeTexture(SimTextureKind::kPerson, kObjectTextureSize, rng_)));
     for (int i = 0; i < 6; ++i)
@@ -583,6 +588,11 @@ class ObjectFactory {
 
   SimRng& rng() { return rng_; }
   const std::vector<std::pair<int64_t, Eigen::Vector3d>>& samples() const { return samples_; }
+  Eigen::AlignedBox3d pathBox() const {
+    std::vector<Eigen::Vector3d> path;
+    for (const auto& s : samples_) path.push_back(s.second);
+    return pathBounds(path);
+  }
 
  private:
   SimScene& scene_;
@@ -678,15 +688,8 @@ void addDynamicObjects(SimScene& scene, SimLevel level, uint64_t seed,
   if (level == SimLevel::kNone) return;
   SimRng rng = SimRng::derive(seed, kStreamObjects * 16 + static_cast<uint64_t>(level));
   const LevelSpec spec = levelSpec(scene.name, level);
-  const bool use_walkers = walkers && !walkers->cycles.empty();
-  if (use_walkers) {
-    scene.sprites = walkers->sprites;
-    scene.walk_cycles = walkers->cycles;
-  }
-  ObjectFactory f(scene, rng, body_path, use_walkers);
-  std::vector<Eigen::Vector3d> path;
-  for (const auto& s : f.samples()) path.push_back(s.second);
-  const Eigen::AlignedBox3d b = pathBounds(path);
+  ObjectFactory f(scene, rng, body_path, walkers);
+  const Eigen::AlignedBox3d b = f.pathBox();
   const double z = scene.floor_z;
   const double v = spec.speed_scale;
   if (scene.name == "street") {
@@ -725,15 +728,8 @@ void addStandingObjects(SimScene& scene, int count, uint64_t seed, const SimTraj
                         const SimWalkerSet* walkers) {
   if (count <= 0) return;
   SimRng rng = SimRng::derive(seed, kStreamStanding);
-  const bool use_walkers = walkers && !walkers->cycles.empty();
-  if (use_walkers && scene.walk_cycles.empty()) {  // level none: no walker added them yet
-    scene.sprites = walkers->sprites;
-    scene.walk_cycles = walkers->cycles;
-  }
-  ObjectFactory f(scene, rng, body_path, use_walkers);
-  std::vector<Eigen::Vector3d> path;
-  for (const auto& s : f.samples()) path.push_back(s.second);
-  const Eigen::AlignedBox3d b = pathBounds(path);
+  ObjectFactory f(scene, rng, body_path, walkers);
+  const Eigen::AlignedBox3d b = f.pathBox();
   const double z = scene.floor_z;
   // Places `n` objects of `cls` at random in `area`, facing along x (or anywhere when !along_x).
   auto place = [&](SimObjectClass cls, int n, const Eigen::AlignedBox2d& area, double height, bool along_x) {
