@@ -31,6 +31,9 @@
 # ADUGS=path/to/adugs runs another binary (e.g. a copy, so that rebuilding does not change a
 # running benchmark).
 set -euo pipefail
+# The whole script is one block that bash reads before running it: editing this file while a
+# benchmark runs (hours) must not change what that benchmark does next.
+{
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 adugs="${ADUGS:-$root/build/app/adugs}"
 out=/tmp/adugs_bench_dynamic
@@ -185,3 +188,5 @@ SHELL=/bin/bash parallel --will-cite -j "$jobs" --joblog "$out/joblog" < "$out/r
   --detector "$(basename "$detector")" --duration "$duration" --heatmap "$heatmap" ${results:+--results "$results"} \
   --candidates "$candidates" --candidate-levels "$candidate_levels" --ablation-levels "$ablation_levels" \
   --class-config "$class_config" --standing "$standing"
+exit
+}
