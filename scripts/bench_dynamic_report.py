@@ -8,6 +8,7 @@ Usage: bench_dynamic_report.py OUT --seeds "3 4 5" --scenes "room street" --leve
          --nmax "..." --dmin "..." --detector NAME --duration S --heatmap 0|1 [--results FILE]
 """
 import argparse
+import collections
 import os
 import re
 import statistics
@@ -19,28 +20,31 @@ MODE_TITLES = {"none": "no mask", "det": "detector + SORT + GrabCut", "det_sam":
                "gt": "exact masks", "det_fixed_r": "fixed R", "det_no_sort": "no SORT"}
 
 
+# One run's figures: ATE [m], (mask recall, precision), objects judged static (each None when absent,
+# all of them for a failed or missing run), {mover class: recall} (empty without exact masks).
+Run = collections.namedtuple("Run", "ate vs_exact seen_static recall_by_class")
+
+
 def read_run(out, name):
-    """(ATE [m] or None, masked fraction or None, failed?, (mask recall, precision) or None,
-    {mover class: recall} (empty without exact masks), objects judged static or None)"""
     d = os.path.join(out, "runs", name)
     path = os.path.join(d, "summary.yaml")
     if os.path.exists(os.path.join(d, "failed")) or not os.path.exists(path):
-        return None, None, True, None, {}, None
+        return Run(None, None, None, {})
     text = open(path).read()
-    ate = re.search(r"^ate_se3_rmse_m: ([0-9.eE+-]+)", text, re.M)
-    masked = re.search(r"^masked_image_fraction: ([0-9.eE+-]+)", text, re.M)
+
+    def number(key, kind=float):
+        m = re.search(r"^%s: ([0-9.eE+-]+)" % key, text, re.M)
+        return kind(m.group(1)) if m else None
+
     vs_exact = re.search(r"^dynamic_mask_vs_exact: \{recall: ([0-9.eE+-]+), precision: ([0-9.eE+-]+)\}", text, re.M)
-    seen_static = re.search(r"^objects_seen_static: ([0-9]+)", text, re.M)
     per_class = re.search(r"^dynamic_mask_recall_per_class: \{([^}]*)\}", text, re.M)
     recall_by_class = {}
-    if per_class:
-        for item in per_class.group(1).split(","):
-            if ":" in item:
-                name, value = item.split(":", 1)
-                recall_by_class[name.strip()] = float(value)
-    return (float(ate.group(1)) if ate else None, float(masked.group(1)) if masked else None, False,
-            (float(vs_exact.group(1)), float(vs_exact.group(2))) if vs_exact else None, recall_by_class,
-            int(seen_static.group(1)) if seen_static else None)
+    for item in per_class.group(1).split(",") if per_class else []:
+        if ":" in item:
+            name, value = item.split(":", 1)
+            recall_by_class[name.strip()] = float(value)
+    return Run(number("ate_se3_rmse_m"), (float(vs_exact.group(1)), float(vs_exact.group(2))) if vs_exact else None,
+               number("objects_seen_static", int), recall_by_class)
 
 
 def cell(values):
@@ -211,10 +215,10 @@ def main():
         for level in levels:
             for mode in all_modes:
                 runs = [read_run(a.out, "%s_s%s_%s_%s" % (scene, s, level, mode)) for s in seeds]
-                ate[(scene, level, mode)] = [r[0] for r in runs]
-                masks[(scene, level, mode)] = [r[3] for r in runs]
-                by_class[(scene, level, mode)] = [r[4] for r in runs]
-                seen_static[(scene, level, mode)] = [r[5] for r in runs]
+                ate[(scene, level, mode)] = [r.ate for r in runs]
+                masks[(scene, level, mode)] = [r.vs_exact for r in runs]
+                by_class[(scene, level, mode)] = [r.recall_by_class for r in runs]
+                seen_static[(scene, level, mode)] = [r.seen_static for r in runs]
     table_modes = [m for m in ("none", "det", "det_sam", "motion", "det_motion", "gt") if m in modes]
     lines += ["| scene | level | " + " | ".join(MODE_TITLES[m] for m in table_modes) + " |",
               "|---|---|" + "---|" * len(table_modes)]
@@ -304,7 +308,7 @@ def main():
                         lines.append("  - %s/%s, default -> candidate: %s" % (scene, level, ", ".join(seeds_text)))
     if a.heatmap == "1":
         nmax, dmin = a.nmax.split(), a.dmin.split()
-        grid = {(n, d): median([read_run(a.out, "grid_room_s%s_n%s_d%s" % (s, n, d))[0] for s in seeds])
+        grid = {(n, d): median([read_run(a.out, "grid_room_s%s_n%s_d%s" % (s, n, d)).ate for s in seeds])
                 for n in nmax for d in dmin}
         png = os.path.join(a.out, "heatmap.png")
         heatmap_png(grid, nmax, dmin, png)

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "data/formats/euroc_sensor_yaml.h"
+#include "data/formats/mot_io.h"
 #include "data/formats/trajectory_io.h"
 #include "data/input_error.h"
 #include "data/sim/sim_sequence.h"
@@ -117,20 +118,13 @@ TEST(SimSequence, SameSeedSameBytes) {
   EXPECT_GT(compared, 10);
 }
 
-// MOT rows of a sequence's objects0/gt.txt as {frame, id, x, y, w, h, conf, class} (visibility
-// dropped: occluders change it).
-std::vector<std::array<int, 8>> motRows(const fs::path& root) {
-  std::ifstream mot(root / "mav0/objects0/gt.txt");
-  std::vector<std::array<int, 8>> rows;
-  std::string line;
-  while (std::getline(mot, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::array<int, 8> r{};
-    double visibility;
-    if (std::sscanf(line.c_str(), "%d,%d,%d,%d,%d,%d,%d,%d,%lf", &r[0], &r[1], &r[2], &r[3], &r[4], &r[5], &r[6],
-                    &r[7], &visibility) == 9)
-      rows.push_back(r);
-  }
+// A sequence's objects0/gt.txt rows (read by the project's MOT reader) as {frame, id, left, top,
+// width, height, conf, class}: visibility dropped, as occluders change it.
+std::vector<std::array<double, 8>> motRows(const fs::path& root) {
+  std::vector<std::array<double, 8>> rows;
+  for (const auto& [frame, boxes] : readMotFile((root / "mav0/objects0/gt.txt").string()))
+    for (const MotBox& b : boxes)
+      rows.push_back({double(frame), double(b.id), b.left, b.top, b.width, b.height, b.confidence, double(b.class_id)});
   return rows;
 }
 
@@ -142,7 +136,7 @@ TEST(SimSequence, StandingObjectsAreDrawnButNotMasked) {
   o.duration_s = 0.5;
   o.level = SimLevel::kNone;
   o.standing = 6;
-  std::set<int> classes;
+  std::set<double> classes;
   int masks = 0;
   for (const std::string scene : {"street", "room"}) {  // parked cars in the first 0.5 s; people
     o.scene = scene;
@@ -156,7 +150,7 @@ TEST(SimSequence, StandingObjectsAreDrawnButNotMasked) {
       ++masks;
     }
   }
-  EXPECT_EQ(classes, (std::set<int>{0, 2})) << "people and parked cars in view";
+  EXPECT_EQ(classes, (std::set<double>{0, 2})) << "people and parked cars in view";
   EXPECT_EQ(masks, 22);
   o.scene = "street";
   const std::string info = readAll(dir / "none_street/mav0/sim.yaml");
@@ -168,7 +162,7 @@ TEST(SimSequence, StandingObjectsAreDrawnButNotMasked) {
   generateSimSequence(o, (dir / "high_standing").string());
   o.standing = 0;
   generateSimSequence(o, (dir / "high").string());
-  std::vector<std::array<int, 8>> movers;
+  std::vector<std::array<double, 8>> movers;
   for (const auto& r : motRows(dir / "high_standing"))
     if (r[6] == 1) movers.push_back(r);
   EXPECT_FALSE(movers.empty());
