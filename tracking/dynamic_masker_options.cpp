@@ -1,6 +1,8 @@
 #include "tracking/dynamic_masker_options.h"
 
+#include <cmath>
 #include <string>
+#include <vector>
 
 namespace adugs::tracking {
 
@@ -38,6 +40,18 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
   if (!o.track && o.detect_every != 1) d.fail("detect_every", "detecting every n-th frame needs tracker: sort");
   d.optional("static_after_frames", o.object_motion.static_frames, 0, 100000);
   d.optional("static_min_points", o.object_motion.min_points, 1, 1000);
+  d.optional("static_range_tolerance", o.object_motion.range_tolerance, 1.0, 10.0);
+  d.optional("static_min_slide_px", o.object_motion.min_slide_px, 0.0, 1000.0);
+  // [[class id, height m], ...]: the classes a moving camera can judge static by their size.
+  std::vector<std::vector<double>> heights;
+  if (d.optional("static_class_heights_m", heights)) {
+    o.object_motion.class_height_m.clear();
+    for (const std::vector<double>& h : heights) {
+      if (h.size() != 2 || h[0] < 0 || h[0] != std::floor(h[0]) || !(h[1] > 0 && h[1] <= 100))
+        d.fail("static_class_heights_m", "must be pairs [class id (integer >= 0), height in metres (0, 100]]");
+      o.object_motion.class_height_m[static_cast<int>(h[0])] = h[1];
+    }
+  }
   if (d.has("motion_cue")) {
     data::YamlOptionsReader m = d.child("motion_cue");
     MotionCueOptions& c = o.motion_cue;

@@ -31,7 +31,7 @@ MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraMode
                                                        options_.masker.grabcut));
   if (usesMotionCue(options_)) {
     motion_ = std::make_unique<tracking::MotionCue>(camera_, options_.masker.motion_cue);
-    object_motion_ = tracking::ObjectMotionClassifier(options_.masker.object_motion);
+    object_motion_ = tracking::ObjectMotionClassifier(options_.masker.object_motion, camera_);
   }
   if (masker_ && !options_.mask_dir.empty() && !options_.objects_path.empty()) {
     objects_ = data::readMotFile(options_.objects_path);
@@ -83,7 +83,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   std::vector<tracking::Detection> prompts;
   std::vector<tracking::PointPrompt> points;
   if (motion_) {
-    prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C);
+    prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C, previous_t >= 0 ? (frame.t_ns - previous_t) * 1e-9 : 0.0);
     masker_->setStaticObjects(object_motion_.staticIds());  // judged up to the previous frame
     // Its moving points are object, its still ones background, for the box segmenter.
     for (const tracking::MotionCuePoint& p : motion_->points())
@@ -93,7 +93,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   const tracking::DynamicMaskResult r =
       f->detections || motion_ ? masker_->process(image, prompts, points) : masker_->carry(image);
   if (motion_) {
-    object_motion_.update(r.objects, motion_->points(), !motion_->translating());
+    object_motion_.update(r.objects, motion_->points(), motion_->translating());
     f->objects_seen_static = object_motion_.everStatic();
   }
   f->mask_ms = data::msSince(t0);

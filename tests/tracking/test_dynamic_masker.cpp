@@ -277,6 +277,23 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   expectRefused("motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n", "strong_threshold_px");
   expectRefused("motion_cue:\n  corner_quality: 0\n", "corner_quality");  // the cue needs a floor above 0
   expectRefused("direction_frames: 0\n", "direction_frames");
+
+  // The object states' keys: the class heights replace the COCO defaults.
+  data::YamlOptionsReader states = data::YamlOptionsReader::fromString(
+      "static_after_frames: 6\nstatic_min_points: 3\nstatic_range_tolerance: 1.5\nstatic_min_slide_px: 2\n"
+      "static_class_heights_m: [[0, 1.8], [9, 0.9]]\n",
+      "dynamic.yaml");
+  readDynamicMaskerOptions(states, &o);
+  states.finish();
+  EXPECT_EQ(o.object_motion.static_frames, 6);
+  EXPECT_EQ(o.object_motion.min_points, 3);
+  EXPECT_DOUBLE_EQ(o.object_motion.range_tolerance, 1.5);
+  EXPECT_DOUBLE_EQ(o.object_motion.min_slide_px, 2);
+  EXPECT_EQ(o.object_motion.class_height_m, (std::map<int, double>{{0, 1.8}, {9, 0.9}}));
+  expectRefused("static_class_heights_m: [[0, 1.8, 2]]\n", "static_class_heights_m");
+  expectRefused("static_class_heights_m: [[0.5, 1.8]]\n", "static_class_heights_m");
+  expectRefused("static_class_heights_m: [[0, -1]]\n", "static_class_heights_m");
+  expectRefused("static_range_tolerance: 0.5\n", "static_range_tolerance");
 }
 
 }  // namespace

@@ -1,59 +1,15 @@
-// The class-free motion cue on rendered frames: a textured wall seen by a moving camera and a
-// textured panel moving in front of it, ray-traced per pixel (the exact images of a pinhole
-// camera), so the boxes can be checked against where the panel really is.
+// The class-free motion cue on rendered frames (tests/tracking/rendered_panel_flight.h), so the
+// boxes can be checked against where the panel really is.
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
-#include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <optional>
 
+#include "tests/tracking/rendered_panel_flight.h"
 #include "tracking/detect/motion_cue.h"
 
 namespace adugs::tracking {
 namespace {
-
-const data::CameraModel kCamera(752, 480, 450, 450, 376, 240);
-
-cv::Mat noiseTexture(int size, int seed) {
-  cv::Mat t(size, size, CV_8UC1);
-  cv::RNG rng(seed);
-  rng.fill(t, cv::RNG::UNIFORM, 0, 255);
-  cv::GaussianBlur(t, t, cv::Size(0, 0), 2.0);
-  cv::normalize(t, t, 0, 255, cv::NORM_MINMAX);
-  return t;
-}
-
-// A wall (plane z = 5 m, 12 m wide) and a 1 m panel (plane z = panel_z, centred at panel_xy),
-// both textured at 200 px per metre; the camera at `position` with rotation R_W_C (camera -> world).
-struct Scene {
-  cv::Mat wall = noiseTexture(2400, 1), panel = noiseTexture(200, 2);
-  double panel_z = 3.0;
-
-  cv::Mat render(const Eigen::Matrix3d& R_W_C, const Eigen::Vector3d& position, const Eigen::Vector2d& panel_xy,
-                 cv::Mat* panel_mask) const {
-    cv::Mat wall_x(480, 752, CV_32FC1), wall_y(480, 752, CV_32FC1), panel_x(480, 752, CV_32FC1),
-        panel_y(480, 752, CV_32FC1);
-    *panel_mask = cv::Mat::zeros(480, 752, CV_8UC1);
-    for (int v = 0; v < 480; ++v)
-      for (int u = 0; u < 752; ++u) {
-        const Eigen::Vector3d ray = R_W_C * kCamera.unproject(Eigen::Vector2d(u, v));
-        const Eigen::Vector3d on_panel = position + (panel_z - position.z()) / ray.z() * ray;
-        const Eigen::Vector2d p = (on_panel.head<2>() - panel_xy) * 200 + Eigen::Vector2d(100, 100);
-        panel_x.at<float>(v, u) = static_cast<float>(p.x());
-        panel_y.at<float>(v, u) = static_cast<float>(p.y());
-        if (p.x() >= 0 && p.y() >= 0 && p.x() < 199 && p.y() < 199) panel_mask->at<uint8_t>(v, u) = 255;
-        const Eigen::Vector3d on_wall = position + (5.0 - position.z()) / ray.z() * ray;
-        const Eigen::Vector2d w = on_wall.head<2>() * 200 + Eigen::Vector2d(1200, 1200);
-        wall_x.at<float>(v, u) = static_cast<float>(w.x());
-        wall_y.at<float>(v, u) = static_cast<float>(w.y());
-      }
-    cv::Mat image, panels;
-    cv::remap(wall, image, wall_x, wall_y, cv::INTER_LINEAR);
-    cv::remap(panel, panels, panel_x, panel_y, cv::INTER_LINEAR);
-    panels.copyTo(image, *panel_mask);
-    return image;
-  }
-};
 
 struct Outcome {
   int frames_with_a_box_on_the_panel = 0;
@@ -62,27 +18,19 @@ struct Outcome {
   int frames = 0;
 };
 
-// The camera translates `step` per frame and turns `yaw_deg` per frame about its y axis; the
-// panel moves `panel_step` per frame. The motion cue gets the true rotation (a perfect gyro).
-// With know_velocity the cue gets the camera's true velocity (the estimator's, in the pipeline);
-// else it fits the translation direction itself.
+// The flight of panelFlightFrame. With know_velocity the cue gets the camera's true velocity (the
+// estimator's, in the pipeline); else it fits the translation direction itself.
 Outcome run(const Eigen::Vector3d& step, double yaw_deg, const Eigen::Vector2d& panel_step, bool know_velocity = false,
             int frames = 12) {
   const Scene scene;
   MotionCue cue(kCamera);
   Outcome o;
-  Eigen::Matrix3d previous_R = Eigen::Matrix3d::Identity();
   for (int k = 0; k < frames; ++k) {
-    const Eigen::Matrix3d R_W_C = Eigen::AngleAxisd(yaw_deg * k * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    const Eigen::Vector3d position = Eigen::Vector3d(-0.3, 0, 0) + k * step;
-    const Eigen::Vector2d panel_xy = Eigen::Vector2d(0.2, -0.6) + k * panel_step;
-    cv::Mat panel_mask;
-    const cv::Mat image = scene.render(R_W_C, position, panel_xy, &panel_mask);
-    const Eigen::Matrix3d R_Ccur_Cprev = R_W_C.transpose() * previous_R;
-    previous_R = R_W_C;
+    const PanelFlightFrame f = panelFlightFrame(scene, step, yaw_deg, panel_step, k);
+    const cv::Mat& panel_mask = f.panel_mask;
     std::optional<Eigen::Vector3d> v_C;
-    if (know_velocity) v_C = R_W_C.transpose() * step * 20.0;  // 20 frames per second
-    const std::vector<Detection> boxes = cue.detect(image, R_Ccur_Cprev, v_C);
+    if (know_velocity) v_C = f.v_C;
+    const std::vector<Detection> boxes = cue.detect(f.image, f.R_Ccur_Cprev, v_C);
     if (k < 3) continue;  // a point moves after 2 of its last 3 frames: from the third frame on
     ++o.frames;
     o.translating_frames += cue.translating();
@@ -154,6 +102,47 @@ TEST(MotionCue, KnownVelocityGivesTheDirectionOfTravel) {
   EXPECT_EQ(overtaking.frames_with_a_box_off_the_panel, 0);
   const Outcome still = run({0.04, 0, 0}, 0.3, {0, 0}, true);
   EXPECT_EQ(still.frames_with_a_box_on_the_panel + still.frames_with_a_box_off_the_panel, 0);
+}
+
+// With the velocity and the frame interval the translation's length is known, and a static
+// point's slide along its epipolar line gives its range: the wall is 5 m deep, the panel 3 m.
+TEST(MotionCue, KnownTranslationGivesTheRangesOfStaticPoints) {
+  const Scene scene;
+  MotionCue cue(kCamera);
+  std::vector<double> wall_ratios, panel_ratios;
+  for (int k = 0; k < 6; ++k) {
+    const PanelFlightFrame f = panelFlightFrame(scene, {0.04, 0, 0}, 0.3, {0, 0}, k);
+    cue.detect(f.image, f.R_Ccur_Cprev, f.v_C, 1 / kFlightFps);
+    // Points within 8 px of the panel's edge track both surfaces: left out.
+    cv::Mat panel, near_panel;
+    const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(17, 17));
+    cv::erode(f.panel_mask, panel, disc);
+    cv::dilate(f.panel_mask, near_panel, disc);
+    for (const MotionCuePoint& p : cue.points()) {
+      if (p.slide_at_1m_px <= 0) continue;  // new in this frame
+      const bool on_panel = panel.at<uint8_t>(cv::Point(p.pixel)) > 0;
+      if (!on_panel && near_panel.at<uint8_t>(cv::Point(p.pixel)) > 0) continue;
+      ASSERT_GT(p.slide_px, 0);
+      const Eigen::Vector3d ray = (f.R_W_C * kCamera.unproject(Eigen::Vector2d(p.pixel.x, p.pixel.y))).normalized();
+      const double depth = p.slide_at_1m_px / p.slide_px * ray.z();  // the camera stays at z = 0
+      (on_panel ? panel_ratios : wall_ratios).push_back(depth / (on_panel ? 3.0 : 5.0));
+    }
+  }
+  ASSERT_GT(wall_ratios.size(), 500u);
+  ASSERT_GT(panel_ratios.size(), 50u);
+  for (std::vector<double>* ratios : {&wall_ratios, &panel_ratios}) {
+    std::sort(ratios->begin(), ratios->end());
+    EXPECT_NEAR((*ratios)[ratios->size() / 2], 1.0, 0.03);
+    EXPECT_GT((*ratios)[ratios->size() / 10], 0.95);
+    EXPECT_LT((*ratios)[ratios->size() * 9 / 10], 1.05);
+  }
+  // Without the frame interval (or the velocity) no slides.
+  MotionCue unknown(kCamera);
+  for (int k = 0; k < 3; ++k) {
+    const PanelFlightFrame f = panelFlightFrame(scene, {0.04, 0, 0}, 0.3, {0, 0}, k);
+    unknown.detect(f.image, f.R_Ccur_Cprev, f.v_C);
+    for (const MotionCuePoint& p : unknown.points()) EXPECT_EQ(p.slide_at_1m_px, 0);
+  }
 }
 
 TEST(MotionCue, AKnownVelocityIsTranslationEvenWithoutParallax) {

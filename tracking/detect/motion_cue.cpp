@@ -49,7 +49,7 @@ MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& op
 }
 
 std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
-                                         const std::optional<Eigen::Vector3d>& v_C) {
+                                         const std::optional<Eigen::Vector3d>& v_C, double dt_s) {
   cv::Mat grey;
   if (image.type() == CV_8UC3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   else if (image.type() == CV_8UC1) grey = image;
@@ -118,13 +118,21 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
 
   // 3-4. Residuals against the static scene's model; the votes of the last three frames.
   const std::vector<double> r = residuals(previous_rays, rays, v_C);
+  // The known translation: b ~ range * a - d for a static point, so a x b = (d x a) / range.
+  const Eigen::Vector3d d = v_C && translating_ && dt_s > 0 ? Eigen::Vector3d(*v_C * dt_s) : Eigen::Vector3d::Zero();
   std::vector<cv::Point2f> moving;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     Track& t = tracks_[i];
     t.history = static_cast<uint8_t>((t.history << 1) | (r[i] > options_.threshold_px ? 1 : 0));
     const bool moves = std::bitset<3>(t.history & 7u).count() >= 2 || r[i] > options_.strong_threshold_px;
     const bool still = t.age >= 2 && (t.history & 3u) == 0;
-    points_.push_back({t.pixel, moves, still, r[i]});
+    MotionCuePoint p{t.pixel, moves, still, r[i]};
+    const Eigen::Vector3d line = d.cross(previous_rays[i]);  // a x b of a static point, times its range
+    if (const double n = line.norm(); n > 1e-12) {
+      p.slide_at_1m_px = focal_px_ * n;
+      p.slide_px = focal_px_ * previous_rays[i].cross(rays[i]).dot(line / n);
+    }
+    points_.push_back(p);
     if (moves) moving.push_back(t.pixel);
   }
   previous_pyramid_ = std::move(pyramid);

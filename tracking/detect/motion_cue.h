@@ -66,6 +66,12 @@ struct MotionCuePoint {
   bool moving = false;
   bool still = false;      // tracked over the last 2 frames with residuals below threshold_px in both
   double residual_px = 0;  // this frame's (0 for a point new in it)
+  // With a known translation d since the previous frame (velocity and frame interval), else 0:
+  // the point's slide along its epipolar line, positive the way static points slide, and the
+  // slide a static point 1 m away would have (f |d x ray|). A static point's range is
+  // slide_at_1m_px / slide_px metres: what tracking/object_motion.h checks against an object's size.
+  double slide_px = 0;
+  double slide_at_1m_px = 0;
 };
 
 class MotionCue {
@@ -77,9 +83,11 @@ class MotionCue {
   // rotation since the previous frame (a ray of the previous camera -> this one's); the identity
   // for a camera that did not rotate or has no gyro. v_C: the camera's velocity in its own frame
   // when known (the estimator's, in m/s): its direction is the translation's, no RANSAC needed;
-  // below min_speed the frame is rotation-only. The first frame gives no boxes.
+  // below min_speed the frame is rotation-only. dt_s: the time since the previous frame; with v_C
+  // it gives the translation's length, so the points' slides (MotionCuePoint). The first frame
+  // gives no boxes.
   std::vector<Detection> detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
-                                const std::optional<Eigen::Vector3d>& v_C = std::nullopt);
+                                const std::optional<Eigen::Vector3d>& v_C = std::nullopt, double dt_s = 0);
 
   const std::vector<MotionCuePoint>& points() const { return points_; }
   // Whether the last frame's static model was the translating one (epipolar) or rotation only.

@@ -48,7 +48,7 @@ TEST(ObjectMotionOnVideo, ThePeopleWalkingAreMaskedTheParkedVanIsNot) {
     prompts.insert(prompts.end(), boxes.begin(), boxes.end());
     masker.setStaticObjects(states.staticIds());
     last = masker.process(frame, prompts);
-    states.update(last.objects, cue.points(), !cue.translating());
+    states.update(last.objects, cue.points(), cue.translating());
     for (const TrackedObject& o : last.objects) {
       class_of[o.id] = o.class_id;
       ++frames_seen[o.id];
