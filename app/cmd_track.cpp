@@ -11,7 +11,12 @@
 // writes DIR/tracks.txt in MOTChallenge format for `adugs eval-mot` (frames numbered from 1);
 // with --segmenter the dynamic stage's masks (DynamicMasker: its own SORT with the mask's rules,
 // boxes segmented and refined), written as DIR/masks/NNNNNN.png with --masks; with --overlay a
-// video of the tracked boxes, their ids and the tinted mask.
+// video of the tracked boxes, their ids and the tinted mask. --motion-cue adds the class-free
+// motion cue's boxes (tracking/detect/motion_cue.h: points moving against the static scene,
+// for a video without an IMU: no rotation given, a translation fitted) to the detections, for the
+// tracker and the masks, and leaves the objects it judges static unmasked
+// (tracking/object_motion.h), as `adugs run --mask detector --motion-cue` does; with it an INPUT
+// needs no detector model (any moving object, of no class: tracks.txt then holds them).
 //
 // Track output rule (MOT files): a track is written in a frame when a detection was fused into it
 // in that frame and it has min_hits detections (or the sequence is younger than min_hits frames),
@@ -26,10 +31,12 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "app/commands.h"
+#include "app/live_sources.h"
 #include "app/pipeline/overlay_video.h"
 #include "app/run_config.h"
 #include "data/formats/image_file.h"
@@ -37,8 +44,10 @@
 #include "data/input_error.h"
 #include "data/sources/image_source.h"
 #include "tracking/detect/detector_factory.h"
+#include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker.h"
 #include "tracking/dynamic_masker_options.h"
+#include "tracking/object_motion.h"
 #include "tracking/segment/segmenter_factory.h"
 #include "tracking/sort/appearance.h"
 #include "tracking/sort/sort_tracker.h"
@@ -59,6 +68,8 @@ struct TrackArgs {
   int detect_every = 1;
   std::string config_path;  // run config whose dynamic: map sets the masker's options
   bool fixed_noise = false;
+  bool motion_cue = false;
+  std::vector<std::string> calibration;  // the motion cue's camera (else a guessed pinhole)
   tracking::SortOptions sort;
 };
 
@@ -81,8 +92,9 @@ class DetectionFeed {
       if (file_.empty()) throw data::InputError(a.detections, 0, "", "no detections in the file");
       last_frame_ = file_.rbegin()->first;
     } else {
-      if (a.detector_model.empty()) throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model (or --detections)");
-      detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
+      if (a.detector_model.empty() && !a.motion_cue)
+        throw CLI::ValidationError("--detector-model", "an INPUT needs a detector model, --motion-cue, or --detections");
+      if (!a.detector_model.empty()) detector_ = tracking::makeDetector(a.detector_model, a.detector_config);
     }
     if (a.video.empty()) return;
     // A sequence's camera images, an ASL camera folder, a folder of images (name order) or a video.
@@ -129,6 +141,10 @@ class DetectionFeed {
 };
 
 void runTrack(const TrackArgs& a) {
+  if (a.motion_cue && a.video.empty())
+    throw CLI::ValidationError("--motion-cue", "the motion cue needs the images: give an INPUT");
+  if (!a.calibration.empty() && !a.motion_cue)
+    throw CLI::ValidationError("--calibration", "is the motion cue's camera: give it with --motion-cue");
   DetectionFeed feed(a);
   tracking::SortOptions options = a.sort;
   if (options.high_score < 0) options.high_score = a.detections.empty() ? 0.6 : 0.8;
@@ -162,6 +178,10 @@ void runTrack(const TrackArgs& a) {
   } else if (a.write_masks) {
     throw CLI::ValidationError("--masks", "needs --segmenter grabcut|box|mobilesam");
   }
+  // The motion cue and the object states, made at the first image (its size).
+  std::unique_ptr<tracking::MotionCue> cue;
+  std::optional<tracking::ObjectMotionClassifier> object_motion;
+  const tracking::DynamicMaskerOptions cue_options = loadRunConfig(a.config_path).dynamic;
   size_t rows = 0;
   int frame = 1;
   std::vector<tracking::Detection> dets;
@@ -178,6 +198,17 @@ void runTrack(const TrackArgs& a) {
                 << "," << std::setprecision(4) << d.score << std::setprecision(2) << ",-1,-1,-1\n";
       det_out.flush();
     }
+    if (a.motion_cue && !image.empty()) {
+      if (!cue) {
+        std::string from;
+        const data::CameraModel camera(visionOnlyCamera(image.cols, image.rows, 0, a.calibration, &from));
+        std::cerr << "track: motion cue camera " << from << "\n";
+        cue = std::make_unique<tracking::MotionCue>(camera, cue_options.motion_cue);
+        object_motion.emplace(cue_options.object_motion, camera);
+      }
+      const std::vector<tracking::Detection> moving = cue->detect(image, Eigen::Matrix3d::Identity());
+      if (detect) dets.insert(dets.end(), moving.begin(), moving.end());
+    }
     const std::vector<tracking::TrackedObject> tracks =
         detect ? tracker.update(dets, frames_since_detection) : tracker.predict(frames_since_detection);
     frames_since_detection = detect ? 1 : frames_since_detection + 1;
@@ -192,7 +223,15 @@ void runTrack(const TrackArgs& a) {
     out.flush();  // a killed run keeps the frames already tracked
     cv::Mat mask;
     if (masker) {
-      mask = (detect_this ? masker->process(image, dets) : masker->carry(image)).mask;
+      if (object_motion) masker->setStaticObjects(object_motion->staticIds());  // judged up to the previous frame
+      // The cue's moving points are object, its still ones background, for the segmenter.
+      std::vector<tracking::PointPrompt> points;
+      if (cue)
+        for (const tracking::MotionCuePoint& p : cue->points())
+          if (p.moving || p.still) points.push_back({p.pixel, p.moving});
+      const tracking::DynamicMaskResult r = detect_this ? masker->process(image, dets, points) : masker->carry(image);
+      if (object_motion) object_motion->update(r.objects, cue->points(), cue->translating());
+      mask = r.mask;
       if (a.write_masks) {
         char name[32];
         std::snprintf(name, sizeof name, "%06d.png", frame);
@@ -239,6 +278,11 @@ void registerTrackCommand(CLI::App& root) {
   cmd->add_option("--detector-model", args->detector_model, "INPUT: ultralytics .torchscript, ultralytics/YOLOX .onnx or darknet .weights")
       ->check(CLI::ExistingFile);
   cmd->add_option("--detector-config", args->detector_config, "INPUT: darknet .cfg (default: beside the .weights)")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--motion-cue", args->motion_cue,
+                "also box what moves against the static scene, of any class (class-free; no detector model needed)");
+  cmd->add_option("--calibration", args->calibration,
+                  "INPUT: --motion-cue's camera, cam0 of Kalibr/OpenVINS/VINS-Fusion/Basalt/EuRoC files (default: a guessed pinhole)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--overlay", args->overlay, "write the tracked boxes, ids and mask over the frames (.avi or .mp4)");
   cmd->add_option("--segmenter", args->segmenter, "INPUT: also compute the dynamic masks with this box segmenter")

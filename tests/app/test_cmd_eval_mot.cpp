@@ -11,10 +11,13 @@
 #include <opencv2/videoio.hpp>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 
+#include "data/formats/mot_io.h"
 #include "tests/test_support.h"
+#include "tests/tracking/rendered_panel_flight.h"
 
 namespace adugs::test {
 namespace {
@@ -290,6 +293,72 @@ TEST(CmdTrack, DetectingEverySecondFrameCostsLittle) {
                      &log),
             0);
   EXPECT_NE(log.find("--detect-every"), std::string::npos) << log;
+}
+
+// --motion-cue without a detector: a static camera sees a textured panel slide over a textured
+// wall (rendered, tests/tracking/rendered_panel_flight.h, written as PNG files): tracks.txt
+// follows the panel under one id from the third frame, the masks cover it and little else. The
+// cue needs the images and takes its camera from --calibration only with --motion-cue.
+TEST(CmdTrack, MotionCueAloneTracksAndMasksWhatMoves) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "frames");
+  const tracking::Scene scene;
+  std::vector<cv::Rect> panel;
+  std::vector<cv::Mat> panel_masks;
+  for (int k = 0; k < 16; ++k) {
+    const tracking::PanelFlightFrame f = tracking::panelFlightFrame(scene, {0, 0, 0}, 0, {0.02, 0.01}, k);
+    char name[32];
+    std::snprintf(name, sizeof name, "f%03d.png", k);
+    cv::imwrite((dir / "frames" / name).string(), f.image);
+    panel.push_back(cv::boundingRect(f.panel_mask));
+    panel_masks.push_back(f.panel_mask);
+  }
+  std::string log;
+  ASSERT_EQ(runAdugs("track " + (dir / "frames").string() + " --motion-cue --segmenter box --masks --out " +
+                         (dir / "o").string(),
+                     &log),
+            0)
+      << log;
+  const auto tracks = data::readMotFile((dir / "o" / "tracks.txt").string());
+  std::set<int> ids;
+  int frames_on_panel = 0;
+  for (const auto& [frame, boxes] : tracks) {
+    for (const data::MotBox& b : boxes) {
+      const cv::Rect r(cv::Point(static_cast<int>(b.left - 1), static_cast<int>(b.top - 1)),
+                       cv::Size(static_cast<int>(b.width), static_cast<int>(b.height)));
+      const cv::Rect& truth = panel[static_cast<size_t>(frame - 1)];
+      const double iou = (r & truth).area() / static_cast<double>((r | truth).area());
+      EXPECT_GT(iou, 0.4) << "frame " << frame << ": a track off the panel";
+      frames_on_panel += iou > 0.4;
+      ids.insert(b.id);
+    }
+  }
+  EXPECT_GE(frames_on_panel, 12) << log;
+  EXPECT_EQ(ids.size(), 1u);
+  double recall = 0, precision = 0;
+  int judged = 0;
+  for (int k = 4; k < 16; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", k + 1);
+    const cv::Mat m = cv::imread((dir / "o" / "masks" / name).string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(m.empty()) << name;
+    const double both = cv::countNonZero(m & panel_masks[static_cast<size_t>(k)]);
+    recall += both / cv::countNonZero(panel_masks[static_cast<size_t>(k)]);
+    precision += both / std::max(1, cv::countNonZero(m));
+    ++judged;
+  }
+  EXPECT_GT(recall / judged, 0.8);
+  EXPECT_GT(precision / judged, 0.5);
+
+  test::writeText(dir / "det.txt", "1,-1,10,10,20,20,0.9,-1,-1,-1\n");
+  EXPECT_NE(runAdugs("track --detections " + (dir / "det.txt").string() + " --motion-cue --out " + (dir / "p").string(), &log), 0);
+  EXPECT_NE(log.find("--motion-cue"), std::string::npos) << log;
+  test::writeText(dir / "cam.yaml", "not: a calibration\n");
+  EXPECT_NE(runAdugs("track " + (dir / "frames").string() + " --calibration " + (dir / "cam.yaml").string() +
+                         " --out " + (dir / "q").string(),
+                     &log),
+            0);
+  EXPECT_NE(log.find("--calibration"), std::string::npos) << log;
 }
 
 // A folder of images (12 frames of the pedestrian video as PNG) with the dynamic stage's masks:
