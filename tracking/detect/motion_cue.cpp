@@ -284,20 +284,25 @@ void MotionCue::topUp(const cv::Mat& grey) {
   const int cell = options_.cell_px;
   std::vector<uint8_t> taken(static_cast<size_t>(grid_cols_ * grid_rows_), 0);
   for (const Track& t : tracks_) taken[static_cast<size_t>(cellOf(t.pixel))] = 1;
-  cv::Mat strength;
-  cv::cornerMinEigenVal(grey, strength, 3, 3);
+  // Corner strength at half resolution: a quarter of the cost, and a cell's best corner is
+  // needed to a pixel only (KLT tracks the window around it).
+  cv::Mat half, strength;
+  cv::pyrDown(grey, half);
+  cv::cornerMinEigenVal(half, strength, 3, 3);
   double strongest = 0;
   cv::minMaxLoc(strength, nullptr, &strongest);
   const double floor = std::max(1e-6, options_.corner_quality * strongest);
   for (int r = 0; r < grid_rows_; ++r)
     for (int c = 0; c < grid_cols_; ++c) {
       if (taken[static_cast<size_t>(r * grid_cols_ + c)]) continue;
-      const cv::Rect area = cv::Rect(c * cell, r * cell, cell, cell) & cv::Rect(0, 0, grey.cols, grey.rows);
+      const cv::Rect area = cv::Rect(c * cell / 2, r * cell / 2, (cell + 1) / 2, (cell + 1) / 2) & cv::Rect(0, 0, half.cols, half.rows);
+      if (area.empty()) continue;
       double best = 0;
       cv::Point at;
       cv::minMaxLoc(strength(area), nullptr, &best, nullptr, &at);
       if (best < floor) continue;
-      const cv::Point2f pixel(static_cast<float>(area.x + at.x), static_cast<float>(area.y + at.y));
+      const cv::Point2f pixel(std::min(2.0f * (area.x + at.x) + 0.5f, grey.cols - 1.0f),
+                              std::min(2.0f * (area.y + at.y) + 0.5f, grey.rows - 1.0f));
       tracks_.push_back({pixel, 0, 0});
       points_.push_back({pixel, false, false, 0});
     }

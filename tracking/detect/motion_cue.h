@@ -5,8 +5,8 @@
 // object that moves is found, of whatever class; an object that stands still is not.
 // Per frame:
 //   1. points: the previous frame's points tracked by pyramidal KLT from where the gyro's rotation
-//      puts them (kept when the backward track returns within 1 px), topped up with the strongest corner (minimum eigenvalue) of every
-//      cell_px grid cell that has no point, so that every textured part of the image, a small
+//      puts them (kept when the backward track returns within 1 px), topped up with the strongest corner (minimum eigenvalue, at
+//      half resolution: a quarter of the cost) of every cell_px grid cell that has no point, so that every textured part of the image, a small
 //      object's included, has points (the strongest corners of the whole image crowd into the
 //      most contrasted texture);
 //   2. the camera's rotation since the previous frame (the gyro's) is removed: each previous ray
