@@ -69,6 +69,35 @@ TEST(DynamicMasker, CoastingTracksKeepTheMaskOnObjectsWhoseDetectionsDrop) {
 // --detect-every 3 on the same street (every visible object detected when the detector runs): the
 // detector is asked for every 3rd frame only and the predicted boxes mask the objects in between.
 // Measured 2026-11-25: 0.990 of the dynamic pixels covered detecting every frame, 0.908 every 3rd.
+// An object whose box grew while it was detected (coming closer) grows by at most 1.2x its last
+// detected size while it coasts: its filter would go on growing it at the same rate over whatever
+// is around (seen on vtest.avi: a coasting box from 91 x 277 to 165 x 566 px in four frames).
+TEST(DynamicMasker, CoastingBoxesGrowLittlePastTheirLastDetectedSize) {
+  DynamicMaskerOptions options;
+  options.segment_async = false;
+  options.sort.min_hits = 1;
+  options.refinement.erode_radius_px = 0;
+  options.refinement.dilate_radius_px = 1;
+  DynamicMasker masker(options, std::make_unique<FilledBoxSegmenter>());
+  const cv::Mat image(480, 640, CV_8UC1, cv::Scalar(100));
+  Box last;
+  for (int k = 0; k < 8; ++k) {
+    last = Box{320, 240, 40.0 + 12 * k, 80.0 + 24 * k};  // grows 12 x 24 px per frame
+    masker.process(image, {Detection{last, 0, 0.9}});
+  }
+  const double detected_area = last.w * last.h;
+  for (int k = 1; k <= 4; ++k) {
+    const DynamicMaskResult r = masker.process(image, {});
+    ASSERT_EQ(r.objects.size(), 1u) << k;
+    EXPECT_GT(r.objects[0].frames_missed, 0);
+    EXPECT_LE(r.objects[0].box.w, 1.2 * last.w + 1e-9) << k;  // uncapped: +12 px per frame, 1.39x at k = 4
+    EXPECT_LE(r.objects[0].box.h, 1.2 * last.h + 1e-9) << k;
+    const double masked = cv::countNonZero(r.mask);
+    EXPECT_GT(masked, 0.9 * detected_area) << "the coasting box still masks the object, frame " << k;
+    EXPECT_LT(masked, 1.5 * detected_area) << "frame " << k;  // 1.44x with 1 px of dilation
+  }
+}
+
 TEST(DynamicMasker, DetectingEveryThirdFrameCarriesTheMaskBetween) {
   test::TempDir tmp("adugs_masker_every");
   const auto street = test_support::makeSimulatedStreet(tmp.path(), 4.0);
