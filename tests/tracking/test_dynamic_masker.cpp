@@ -66,9 +66,6 @@ TEST(DynamicMasker, CoastingTracksKeepTheMaskOnObjectsWhoseDetectionsDrop) {
   EXPECT_GT(recall_masker, recall_plain + 0.1);
 }
 
-// --detect-every 3 on the same street (every visible object detected when the detector runs): the
-// detector is asked for every 3rd frame only and the predicted boxes mask the objects in between.
-// Measured 2026-11-25: 0.990 of the dynamic pixels covered detecting every frame, 0.908 every 3rd.
 // An object whose box grew while it was detected (coming closer) grows by at most 1.2x its last
 // detected size while it coasts: its filter would go on growing it at the same rate over whatever
 // is around (seen on vtest.avi: a coasting box from 91 x 277 to 165 x 566 px in four frames).
@@ -98,6 +95,9 @@ TEST(DynamicMasker, CoastingBoxesGrowLittlePastTheirLastDetectedSize) {
   }
 }
 
+// --detect-every 3 on the first test's street (every visible object detected when the detector runs): the
+// detector is asked for every 3rd frame only and the predicted boxes mask the objects in between.
+// Measured 2026-11-25: 0.990 of the dynamic pixels covered detecting every frame, 0.908 every 3rd.
 TEST(DynamicMasker, DetectingEveryThirdFrameCarriesTheMaskBetween) {
   test::TempDir tmp("adugs_masker_every");
   const auto street = test_support::makeSimulatedStreet(tmp.path(), 4.0);
