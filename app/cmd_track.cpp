@@ -167,12 +167,13 @@ void runTrack(const TrackArgs& a) {
   }
   std::unique_ptr<OverlayVideo> overlay;
   if (!a.overlay.empty()) overlay = std::make_unique<OverlayVideo>(a.overlay, 10.0);
+  // The run config's dynamic: map (the masker's and the motion cue's options), read once.
+  tracking::DynamicMaskerOptions m = loadRunConfig(a.config_path).dynamic;
+  m.detect_every = a.detect_every;
   // The masks: the dynamic stage with its own SORT (the mask's rules: coasting boxes kept).
   std::unique_ptr<tracking::DynamicMasker> masker;
   if (!a.segmenter.empty()) {
     if (a.video.empty()) throw CLI::ValidationError("--segmenter", "masks need the images: give an INPUT, not --detections");
-    tracking::DynamicMaskerOptions m = loadRunConfig(a.config_path).dynamic;
-    m.detect_every = a.detect_every;
     masker = std::make_unique<tracking::DynamicMasker>(m, tracking::makeBoxSegmenter(a.segmenter, a.sam_encoder, a.sam_decoder, m.grabcut));
     if (a.write_masks) fs::create_directories(fs::path(a.out_dir) / "masks");
   } else if (a.write_masks) {
@@ -181,7 +182,6 @@ void runTrack(const TrackArgs& a) {
   // The motion cue and the object states, made at the first image (its size).
   std::unique_ptr<tracking::MotionCue> cue;
   std::optional<tracking::ObjectMotionClassifier> object_motion;
-  const tracking::DynamicMaskerOptions cue_options = loadRunConfig(a.config_path).dynamic;
   size_t rows = 0;
   int frame = 1;
   std::vector<tracking::Detection> dets;
@@ -203,8 +203,8 @@ void runTrack(const TrackArgs& a) {
         std::string from;
         const data::CameraModel camera(visionOnlyCamera(image.cols, image.rows, 0, a.calibration, &from));
         std::cerr << "track: motion cue camera " << from << "\n";
-        cue = std::make_unique<tracking::MotionCue>(camera, cue_options.motion_cue);
-        object_motion.emplace(cue_options.object_motion, camera);
+        cue = std::make_unique<tracking::MotionCue>(camera, m.motion_cue);
+        object_motion.emplace(m.object_motion, camera);
       }
       const std::vector<tracking::Detection> moving = cue->detect(image, Eigen::Matrix3d::Identity());
       if (detect) dets.insert(dets.end(), moving.begin(), moving.end());
@@ -224,11 +224,8 @@ void runTrack(const TrackArgs& a) {
     cv::Mat mask;
     if (masker) {
       if (object_motion) masker->setStaticObjects(object_motion->staticIds());  // judged up to the previous frame
-      // The cue's moving points are object, its still ones background, for the segmenter.
-      std::vector<tracking::PointPrompt> points;
-      if (cue)
-        for (const tracking::MotionCuePoint& p : cue->points())
-          if (p.moving || p.still) points.push_back({p.pixel, p.moving});
+      const std::vector<tracking::PointPrompt> points = cue ? tracking::cuePointPrompts(cue->points())
+                                                            : std::vector<tracking::PointPrompt>{};
       const tracking::DynamicMaskResult r = detect_this ? masker->process(image, dets, points) : masker->carry(image);
       if (object_motion) object_motion->update(r.objects, cue->points(), cue->translating());
       mask = r.mask;

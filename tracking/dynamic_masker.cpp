@@ -56,6 +56,13 @@ DynamicMaskResult DynamicMasker::carry(const cv::Mat& image) {
   return maskBoxes(image, std::move(r));
 }
 
+std::vector<PointPrompt> cuePointPrompts(const std::vector<MotionCuePoint>& points) {
+  std::vector<PointPrompt> prompts;
+  for (const MotionCuePoint& p : points)
+    if (p.moving || p.still) prompts.push_back({p.pixel, p.moving});
+  return prompts;
+}
+
 // An object coming closer keeps growing while it coasts, but by little in max_age frames.
 constexpr double kCoastingGrowthMax = 1.2;
 

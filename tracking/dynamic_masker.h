@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker_options.h"
 #include "tracking/segment/box_segmenter.h"
 #include "tracking/segment/mask_refinement.h"
@@ -24,6 +25,10 @@ struct DynamicMaskResult {
   double masked_fraction = 0;          // of the image
   double sort_ms = 0, segment_ms = 0, refine_ms = 0;
 };
+
+// The motion cue's points as prompts for the box segmenter: its moving points are object, its
+// still ones background (points of neither kind are left out).
+std::vector<PointPrompt> cuePointPrompts(const std::vector<MotionCuePoint>& points);
 
 class DynamicMasker {
  public:

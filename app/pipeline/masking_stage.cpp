@@ -85,9 +85,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   if (motion_) {
     prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C, previous_t >= 0 ? (frame.t_ns - previous_t) * 1e-9 : 0.0);
     masker_->setStaticObjects(object_motion_.staticIds());  // judged up to the previous frame
-    // Its moving points are object, its still ones background, for the box segmenter.
-    for (const tracking::MotionCuePoint& p : motion_->points())
-      if (p.moving || p.still) points.push_back({p.pixel, p.moving});
+    points = tracking::cuePointPrompts(motion_->points());
   }
   if (f->detections) prompts.insert(prompts.end(), f->detections->begin(), f->detections->end());
   const tracking::DynamicMaskResult r =

@@ -213,6 +213,22 @@ TEST(DynamicMasker, PointPromptsCutTheMotionCuesBoxesOnly) {
   EXPECT_EQ(seen->without_points.size(), 3u);
 }
 
+// The cue's points as segmenter prompts: moving ones object, still ones background, the rest out.
+TEST(DynamicMasker, CuePointPromptsKeepMovingAndStillPoints) {
+  std::vector<MotionCuePoint> points(3);
+  points[0].pixel = {10, 20};
+  points[0].moving = true;
+  points[1].pixel = {30, 40};
+  points[1].still = true;
+  points[2].pixel = {50, 60};  // young: neither
+  const std::vector<PointPrompt> prompts = cuePointPrompts(points);
+  ASSERT_EQ(prompts.size(), 2u);
+  EXPECT_EQ(prompts[0].pixel, cv::Point2f(10, 20));
+  EXPECT_TRUE(prompts[0].object);
+  EXPECT_EQ(prompts[1].pixel, cv::Point2f(30, 40));
+  EXPECT_FALSE(prompts[1].object);
+}
+
 TEST(DynamicMaskerOptions, DetectionFramesAreEveryNthFromTheFirst) {
   std::vector<int> frames;
   for (int i = 0; i < 10; ++i)
