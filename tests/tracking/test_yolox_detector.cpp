@@ -79,6 +79,32 @@ TEST(YoloxDetector, FindsThePedestriansOfTheOpenCvVideo) {
   EXPECT_FALSE(detector.detect(grey).empty());
 }
 
+// Frame 768 of vtest.avi: two people one behind the other, found one by one, and (before
+// dropGroupBoxes) a weaker box (0.42) around both that would have masked the floor between them.
+TEST(YoloxDetector, NoBoxAroundTwoPeopleItFoundAlone) {
+  const auto model = test::sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
+  ADUGS_REQUIRE_SHARED(model);
+  ASSERT_TRUE(std::filesystem::exists(kVideo))
+      << kVideo << " missing: run scripts/setup.sh (package opencv-doc)";
+  cv::VideoCapture video(kVideo);
+  ASSERT_TRUE(video.set(cv::CAP_PROP_POS_FRAMES, 767));
+  cv::Mat frame;
+  ASSERT_TRUE(video.read(frame));
+  const Box front = Box::fromCorners(272, 237, 310, 335), behind = Box::fromCorners(280, 178, 308, 254);
+  bool found_front = false, found_behind = false;
+  YoloxDetector detector(model.string());
+  for (const Detection& d : detector.detect(frame)) {
+    found_front = found_front || intersectionOverUnion(d.box, front) > 0.7;
+    found_behind = found_behind || intersectionOverUnion(d.box, behind) > 0.7;
+    const cv::Rect2d r = d.box.rect();
+    const bool holds_both = (r & front.rect()).area() > 0.8 * front.rect().area() &&
+                            (r & behind.rect()).area() > 0.8 * behind.rect().area();
+    EXPECT_FALSE(holds_both) << "a box around both people: " << r << " score " << d.score;
+  }
+  EXPECT_TRUE(found_front);
+  EXPECT_TRUE(found_behind);
+}
+
 TEST(YoloxDetector, BadModelFilesAreNamed) {
   EXPECT_THROW(YoloxDetector("/nonexistent/model.onnx"), data::InputError);
   test::TempDir tmp("adugs_yolox_bad");

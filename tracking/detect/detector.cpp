@@ -35,6 +35,24 @@ std::vector<Detection> suppressOverlaps(const std::vector<Detection>& candidates
   cv::dnn::NMSBoxes(rects, scores, static_cast<float>(score_threshold), static_cast<float>(nms_iou), keep);
   std::vector<Detection> kept;
   for (int k : keep) kept.push_back(candidates[k]);
+  return dropGroupBoxes(kept);
+}
+
+std::vector<Detection> dropGroupBoxes(const std::vector<Detection>& detections) {
+  std::vector<Detection> kept;
+  for (const Detection& group : detections) {
+    const cv::Rect2d outer = group.box.rect();
+    int members = 0;
+    bool all_stronger = true;
+    for (const Detection& d : detections) {
+      if (&d == &group) continue;
+      const cv::Rect2d inner = d.box.rect();
+      if (inner.area() <= 0 || (inner & outer).area() < kGroupInsideMin * inner.area()) continue;
+      ++members;
+      all_stronger = all_stronger && d.score > group.score;
+    }
+    if (members < 2 || !all_stronger) kept.push_back(group);
+  }
   return kept;
 }
 
