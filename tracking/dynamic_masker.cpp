@@ -63,29 +63,9 @@ std::vector<PointPrompt> cuePointPrompts(const std::vector<MotionCuePoint>& poin
   return prompts;
 }
 
-// An object coming closer keeps growing while it coasts, but by little in max_age frames.
-constexpr double kCoastingGrowthMax = 1.2;
-
-void DynamicMasker::capCoastingSizes(std::vector<TrackedObject>* objects) {
-  std::map<int64_t, Box> seen;
-  for (TrackedObject& o : *objects) {
-    if (o.frames_missed == 0) {
-      seen[o.id] = o.box;
-      continue;
-    }
-    const auto last = last_detected_.find(o.id);
-    if (last == last_detected_.end()) continue;
-    o.box.w = std::min(o.box.w, kCoastingGrowthMax * last->second.w);
-    o.box.h = std::min(o.box.h, kCoastingGrowthMax * last->second.h);
-    seen[o.id] = last->second;
-  }
-  last_detected_ = std::move(seen);  // tracks no longer reported are forgotten
-}
-
 DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResult r,
                                            const std::vector<PointPrompt>& points) {
   auto t0 = std::chrono::steady_clock::now();
-  capCoastingSizes(&r.objects);
   std::vector<TrackedObject> objects;
   for (const TrackedObject& o : r.objects)
     if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px && !static_ids_.count(o.id))

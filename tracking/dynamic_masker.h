@@ -54,10 +54,6 @@ class DynamicMasker {
 
  private:
   DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r, const std::vector<PointPrompt>& points = {});
-  // A coasting box (no detection this frame) at most 1.2x as wide and tall as when it was last
-  // detected: its filter keeps the size velocity of its last frames, and a box that grew while
-  // seen would otherwise swell over static structure while it coasts.
-  void capCoastingSizes(std::vector<TrackedObject>* objects);
 
   DynamicMaskerOptions options_;
   std::unique_ptr<BoxSegmenter> segmenter_;      // every frame, or
@@ -65,7 +61,6 @@ class DynamicMasker {
   SortTracker sort_;
   int frames_since_detection_;  // starts at detect_every: the first frame is detected
   std::set<int64_t> static_ids_;
-  std::map<int64_t, Box> last_detected_;  // per tracked id, its box when last detected
 };
 
 }  // namespace adugs::tracking

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 #include "tracking/sort/sort_tracker.h"
@@ -283,6 +284,41 @@ TEST(SortTracker, DirectionConsistencyPrefersTheDetectionAheadOfTheMotion) {
 
 // Tentative tracks (drop_unconfirmed_on_miss): a one-frame false detection is forgotten at its
 // first missed frame instead of coasting max_age frames.
+// A box that grew while detected (an object coming closer) is reported coasting, by update() and
+// by predict(), at most coasting_growth_max times its size when last detected; the filter, which
+// keeps growing it, is not capped (0 = off shows how far it would go).
+TEST(SortTracker, CoastingBoxesGrowLittlePastTheirLastDetectedSize) {
+  for (const double cap : {1.2, 0.0}) {
+    SortOptions options;
+    options.coasting_growth_max = cap;
+    SortTracker sort(options);
+    std::vector<TrackedObject> out;
+    for (int k = 0; k < 8; ++k) out = sort.update({{Box{320, 240, 40.0 + 12 * k, 80.0 + 24 * k}, 0}});
+    ASSERT_EQ(out.size(), 1u);
+    const Box seen = out[0].box;
+    double widest = 0, tallest = 0;
+    for (int k = 1; k <= 4; ++k) {
+      out = sort.update({});
+      ASSERT_EQ(out.size(), 1u);
+      EXPECT_EQ(out[0].frames_missed, k);
+      widest = std::max(widest, out[0].box.w / seen.w);
+      tallest = std::max(tallest, out[0].box.h / seen.h);
+      const std::vector<TrackedObject> ahead = sort.predict(3);
+      ASSERT_EQ(ahead.size(), 1u);
+      widest = std::max(widest, ahead[0].box.w / seen.w);
+      tallest = std::max(tallest, ahead[0].box.h / seen.h);
+    }
+    if (cap > 0) {
+      EXPECT_LE(widest, cap + 1e-9);
+      EXPECT_LE(tallest, cap + 1e-9);
+      EXPECT_GT(widest, 1.1);  // it still grows up to the cap
+    } else {
+      EXPECT_GT(widest, 1.5) << "the uncapped filter swells the box";
+      EXPECT_GT(tallest, 1.5);
+    }
+  }
+}
+
 TEST(SortTracker, UnconfirmedTracksAreDroppedAtTheirFirstMiss) {
   for (const bool drop : {true, false}) {
     SortOptions o;

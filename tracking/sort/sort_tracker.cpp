@@ -36,6 +36,7 @@ void SortTracker::fuse(Track& t, const Detection& d) {
     t.appearance = t.appearance.empty() ? d.appearance.clone() : cv::Mat(0.8 * t.appearance + 0.2 * d.appearance);
   TrackedObject& o = t.object;
   o.box = t.filter.box();
+  t.filtered_at_last_detection = o.box;
   o.detected = true;
   ++o.hits;
   o.frames_missed = 0;
@@ -150,15 +151,25 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     o.detected = true;
     o.hits = 1;
     const AdaptiveBoxFilter filter(detections[j].box, options_.filter);
-    Track t{o, filter, filter, detections[j].box, 0.0, detections[j].appearance.clone(), {}};
+    Track t{o, filter, filter, detections[j].box, detections[j].box, 0.0, detections[j].appearance.clone(), {}};
     t.observations.push_back({time_, detections[j].box});
     tracks_.push_back(std::move(t));
   }
 
   std::vector<TrackedObject> out;
-  for (const Track& t : tracks_)
-    if (reported(t)) out.push_back(t.object);
+  for (const Track& t : tracks_) {
+    if (!reported(t)) continue;
+    out.push_back(t.object);
+    if (t.object.frames_missed > 0) out.back().box = capGrowth(t, t.object.box);
+  }
   return out;
+}
+
+Box SortTracker::capGrowth(const Track& t, Box box) const {
+  if (options_.coasting_growth_max <= 0) return box;
+  box.w = std::min(box.w, options_.coasting_growth_max * t.filtered_at_last_detection.w);
+  box.h = std::min(box.h, options_.coasting_growth_max * t.filtered_at_last_detection.h);
+  return box;
 }
 
 bool SortTracker::reported(const Track& t) const {
@@ -181,7 +192,7 @@ std::vector<TrackedObject> SortTracker::predict(double dt) const {
     if (!reported(t)) continue;
     AdaptiveBoxFilter filter = t.filter;
     TrackedObject o = t.object;
-    o.box = filter.predict(dt);
+    o.box = capGrowth(t, filter.predict(dt));
     o.detected = false;
     out.push_back(o);
   }

@@ -66,6 +66,12 @@ struct SortOptions {
   // A track that has not yet reached min_hits is deleted at its first missed frame (DeepSORT's
   // tentative tracks): one-off false detections do not coast and steal later detections.
   bool drop_unconfirmed_on_miss = false;
+  // A coasting track is reported (update's and predict's output) at most this many times the
+  // width and height it had when last detected: the filter keeps the size velocity of its last
+  // frames, and without detections a box swelled from 91 x 277 to 165 x 566 px in four frames
+  // over vtest.avi's parked van. The filter itself is not capped (association is unchanged).
+  // 0 = no cap.
+  double coasting_growth_max = 1.2;
 };
 
 class SortTracker {
@@ -97,6 +103,7 @@ class SortTracker {
     AdaptiveBoxFilter filter;
     AdaptiveBoxFilter filter_at_last_detection;  // for the observation-centric re-update
     Box last_detection;
+    Box filtered_at_last_detection;  // the reported box when last detected (coasting_growth_max)
     double dt_since_detection = 0;
     cv::Mat appearance;                    // averaged boxHistogram, empty without
     std::deque<Observation> observations;  // the last direction_frames + 1 detections
@@ -108,6 +115,7 @@ class SortTracker {
              std::vector<int>* detection_of_track, std::vector<bool>* detection_used) const;
   void fuse(Track& track, const Detection& detection);
   bool reported(const Track& track) const;
+  Box capGrowth(const Track& track, Box box) const;  // coasting_growth_max
   SortOptions options_;
   std::vector<Track> tracks_;
   int64_t next_id_ = 1;
