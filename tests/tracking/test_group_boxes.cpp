@@ -1,6 +1,6 @@
 // dropGroupBoxes (tracking/detect/detector.h): a weak box around people found one by one goes,
 // everything that could be a real object stays. Hand-made frames; the real detector's group box
-// on the simulator's walkers is in tests/tracking/models/test_sim_walkers_detected.cpp.
+// on vtest.avi is YoloxDetector.NoBoxAroundTwoPeopleItFoundAlone (test_yolox_detector.cpp).
 #include <gtest/gtest.h>
 
 #include "tracking/detect/detector.h"
@@ -12,7 +12,7 @@ Detection person(double left, double top, double w, double h, double score) {
   return {Box::fromCorners(left, top, left + w, top + h), 0, score};
 }
 
-// Two people standing side by side (100 x 300 px each) and a third far off.
+// Two people standing side by side (about 100 x 300 px each).
 std::vector<Detection> twoPeople() { return {person(100, 100, 100, 300, 0.85), person(220, 110, 100, 290, 0.8)}; }
 
 TEST(GroupBoxes, AWeakBoxAroundTwoPeopleFoundAloneIsDropped) {

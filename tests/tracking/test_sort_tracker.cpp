@@ -282,8 +282,6 @@ TEST(SortTracker, DirectionConsistencyPrefersTheDetectionAheadOfTheMotion) {
   EXPECT_NEAR(chosenY(2), 200, 1.0);
 }
 
-// Tentative tracks (drop_unconfirmed_on_miss): a one-frame false detection is forgotten at its
-// first missed frame instead of coasting max_age frames.
 // A box that grew while detected (an object coming closer) is reported coasting, by update() and
 // by predict(), at most coasting_growth_max times its size when last detected; the filter, which
 // keeps growing it, is not capped (0 = off shows how far it would go).
@@ -319,6 +317,8 @@ TEST(SortTracker, CoastingBoxesGrowLittlePastTheirLastDetectedSize) {
   }
 }
 
+// Tentative tracks (drop_unconfirmed_on_miss): a one-frame false detection is forgotten at its
+// first missed frame instead of coasting max_age frames.
 TEST(SortTracker, UnconfirmedTracksAreDroppedAtTheirFirstMiss) {
   for (const bool drop : {true, false}) {
     SortOptions o;

@@ -36,7 +36,6 @@ void SortTracker::fuse(Track& t, const Detection& d) {
     t.appearance = t.appearance.empty() ? d.appearance.clone() : cv::Mat(0.8 * t.appearance + 0.2 * d.appearance);
   TrackedObject& o = t.object;
   o.box = t.filter.box();
-  t.filtered_at_last_detection = o.box;
   o.detected = true;
   ++o.hits;
   o.frames_missed = 0;
@@ -151,7 +150,7 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
     o.detected = true;
     o.hits = 1;
     const AdaptiveBoxFilter filter(detections[j].box, options_.filter);
-    Track t{o, filter, filter, detections[j].box, detections[j].box, 0.0, detections[j].appearance.clone(), {}};
+    Track t{o, filter, filter, detections[j].box, 0.0, detections[j].appearance.clone(), {}};
     t.observations.push_back({time_, detections[j].box});
     tracks_.push_back(std::move(t));
   }
@@ -167,8 +166,9 @@ std::vector<TrackedObject> SortTracker::update(const std::vector<Detection>& det
 
 Box SortTracker::capGrowth(const Track& t, Box box) const {
   if (options_.coasting_growth_max <= 0) return box;
-  box.w = std::min(box.w, options_.coasting_growth_max * t.filtered_at_last_detection.w);
-  box.h = std::min(box.h, options_.coasting_growth_max * t.filtered_at_last_detection.h);
+  const Box seen = t.filter_at_last_detection.box();  // the box reported when last detected
+  box.w = std::min(box.w, options_.coasting_growth_max * seen.w);
+  box.h = std::min(box.h, options_.coasting_growth_max * seen.h);
   return box;
 }
 

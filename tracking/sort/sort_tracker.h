@@ -70,7 +70,7 @@ struct SortOptions {
   // width and height it had when last detected: the filter keeps the size velocity of its last
   // frames, and without detections a box swelled from 91 x 277 to 165 x 566 px in four frames
   // over vtest.avi's parked van. The filter itself is not capped (association is unchanged).
-  // 0 = no cap.
+  // 0 = no cap. (With camera-motion compensation the last detected size is warped as the image.)
   double coasting_growth_max = 1.2;
 };
 
@@ -103,7 +103,6 @@ class SortTracker {
     AdaptiveBoxFilter filter;
     AdaptiveBoxFilter filter_at_last_detection;  // for the observation-centric re-update
     Box last_detection;
-    Box filtered_at_last_detection;  // the reported box when last detected (coasting_growth_max)
     double dt_since_detection = 0;
     cv::Mat appearance;                    // averaged boxHistogram, empty without
     std::deque<Observation> observations;  // the last direction_frames + 1 detections
