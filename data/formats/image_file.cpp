@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <memory>
 
+#include <sys/stat.h>
+
 #include <jpeglib.h>
 #include <jerror.h>  // after jpeglib.h: the message codes
 #include <png.h>
@@ -16,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "data/formats/atomic_file.h"
+#include "data/formats/grey_png.h"
 #include "data/input_error.h"
 #include "data/media/media_loader.h"
 
@@ -323,14 +326,34 @@ bool decodeKnown(ImageInput& in, const uint8_t* head, size_t head_size, ImageRea
   return false;
 }
 
+// The whole file into *bytes: `head` (already read) and the rest. False on a read error or a
+// file too large to be a frame (the streaming path then decodes or refuses it).
+bool readRest(FILE* file, const uint8_t* head, size_t head_size, std::vector<uint8_t>* bytes) {
+  struct stat st {};
+  if (fstat(fileno(file), &st) != 0 || st.st_size < 0 || static_cast<uint64_t>(st.st_size) > kMaxImageBytes)
+    return false;
+  bytes->assign(head, head + head_size);
+  bytes->resize(std::max(static_cast<size_t>(st.st_size), head_size));
+  const size_t rest = bytes->size() - head_size;
+  return std::fread(bytes->data() + head_size, 1, rest, file) == rest;
+}
+
 }  // namespace
 
 cv::Mat readImageFile(const std::string& path, ImageRead mode) {
   const std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
   if (!file) throw InputError(path, 0, "", std::filesystem::exists(path) ? "cannot open" : "no such image file");
-  uint8_t head[8];
+  uint8_t head[kGreyPngHeadBytes];
   const size_t head_size = std::fread(head, 1, sizeof head, file.get());
   if (head_size == 0) throw InputError(path, 0, "", "empty image file");
+  if (isGreyPng(head, head_size)) {  // a camera frame: read whole, decoded with libdeflate
+    thread_local std::vector<uint8_t> bytes;
+    cv::Mat image;
+    const bool decoded = readRest(file.get(), head, head_size, &bytes) &&
+                         decodeGreyPng(bytes.data(), bytes.size(), mode, image);
+    if (bytes.capacity() > kKeptBufferBytes) std::vector<uint8_t>().swap(bytes);
+    if (decoded) return image;
+  }
   std::rewind(file.get());
   ImageInput in;
   in.file = file.get();
@@ -348,6 +371,7 @@ cv::Mat decodeImage(const std::vector<uint8_t>& bytes, ImageRead mode, std::stri
   cv::Mat image;
   std::string reason;
   bool other = false;
+  if (decodeGreyPng(bytes.data(), bytes.size(), mode, image)) return image;
   ImageInput in;
   in.data = bytes.data();
   in.size = bytes.size();
