@@ -219,9 +219,13 @@ double largestDifference(const std::vector<double>& a, const std::vector<double>
 }
 
 // Two copies of the same window solved each way reach the same minimum.
+// `tolerance` bounds the largest difference of values: the minimum's own flatness sets it (with a
+// prior, position and yaw are held only by it, and rounding-level changes of the prior's algebra
+// move them by ~1e-6 at the same cost to 1e-7).
 void expectSameMinimum(Window& ceres_window, Window& ours,
                        const std::shared_ptr<const MarginalizationPrior>& ceres_prior,
-                       const std::shared_ptr<const MarginalizationPrior>& our_prior) {
+                       const std::shared_ptr<const MarginalizationPrior>& our_prior,
+                       double tolerance = 1e-6) {
   ceres::Problem::Options po;
   po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -241,7 +245,7 @@ void expectSameMinimum(Window& ceres_window, Window& ours,
   EXPECT_LT(s.final_cost, 0.01 * s.initial_cost);
   EXPECT_NEAR(s.final_cost, cs.final_cost, 1e-7 * cs.final_cost);
   const double worst = largestDifference(ceres_window.values(), ours.values());
-  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worst, tolerance);
   std::cout << "cost " << s.initial_cost << " -> " << s.final_cost << " (Ceres " << cs.final_cost
             << ") in " << s.iterations << " steps; largest difference " << worst << "\n";
 }
@@ -264,7 +268,7 @@ TEST(WindowSolver, InformationFormPriorEqualsTheResidualForm) {
   // The information form is the residual form's normal equations.
   EXPECT_LT((prior_a->J.transpose() * prior_a->J - prior_a->H).norm(), 1e-8 * prior_a->H.norm());
   EXPECT_LT((prior_a->J.transpose() * prior_a->r - prior_a->b).norm(), 1e-8 * (1.0 + prior_a->b.norm()));
-  expectSameMinimum(*a, *b, prior_a, prior_b);
+  expectSameMinimum(*a, *b, prior_a, prior_b, 5e-6);
 }
 
 TEST(WindowSolver, TimeLimitStopsAfterTheStepInProgress) {

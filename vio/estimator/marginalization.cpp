@@ -24,7 +24,13 @@ Eigen::MatrixXd toTangent(const RowMajorMatrix& J, const ceres::Manifold* m, con
   if (!m) return J;
   RowMajorMatrix plus(m->AmbientSize(), m->TangentSize());
   if (!m->PlusJacobian(x, plus.data())) throw std::invalid_argument("PlusJacobian failed");
-  return J * plus;
+  return J.lazyProduct(plus);  // a few rows: Eigen's GEMM dispatch would cost more than the sums
+}
+
+// The rotation block of a pose's Minus Jacobian: Minus = [p - p0, Log(q0^-1 q)], and q -> q Exp(d)
+// moves the log by Jr^-1(log) d (the translation block is the identity).
+Eigen::Matrix3d poseMinusRotationJacobian(const double* x, const double* x0) {
+  return rightJacobianInverse(quaternionLog(poseRotation(x0).conjugate() * poseRotation(x)));
 }
 
 // Symmetric pseudo-inverse with eigenvalues below `floor` dropped.
@@ -154,7 +160,9 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
       for (size_t b = 0; b < n_blocks; ++b) {
         if (!blocks[b]) continue;
         const Block& bb = *blocks[b];
-        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent).noalias() += J[a].transpose() * J[b];
+        // Products of 2- to 15-row Jacobians, thousands per keyframe: coefficient by coefficient,
+        // not through Eigen's GEMM (which showed in the profile for these sizes).
+        H.block(ba.offset, bb.offset, ba.tangent, bb.tangent).noalias() += J[a].transpose().lazyProduct(J[b]);
       }
     }
   }
@@ -286,10 +294,8 @@ Eigen::MatrixXd minusJacobianAt(const ceres::Manifold* manifold, int size, const
                                 const double* x0) {
   if (!manifold) return Eigen::MatrixXd::Identity(size, size);
   if (dynamic_cast<const PoseManifold*>(manifold)) {
-    // Minus = [p - p0, Log(q0^-1 q)]; q -> q Exp(d) moves the log by Jr^-1(log) d.
     Eigen::MatrixXd D = Eigen::MatrixXd::Identity(6, 6);
-    const Eigen::Vector3d phi = quaternionLog(poseRotation(x0).conjugate() * poseRotation(x));
-    D.bottomRightCorner(3, 3) = rightJacobianInverse(phi);
+    D.bottomRightCorner(3, 3) = poseMinusRotationJacobian(x, x0);
     return D;
   }
   const int n = manifold->TangentSize(), m = manifold->AmbientSize();
@@ -331,6 +337,20 @@ PriorLinearization linearizePrior(const MarginalizationPrior& p, const std::vect
   for (size_t k = 0; k < p.blocks.size(); ++k) {
     if (!p.manifolds[k]) continue;
     const int o = p.tangent_offsets[k], t = p.tangent_sizes[k];
+    if (dynamic_cast<const PoseManifold*>(p.manifolds[k])) {
+      // D = diag(I, Jr^-1): only the three rotation rows and columns change, by a 3 x 3 product
+      // each (the general path below multiplies whole 6-row blocks; it showed in the profile).
+      const Eigen::Matrix3d R = poseMinusRotationJacobian(x[k], p.x0[k].data());
+      const Eigen::Vector3d g_rot = L.gradient.segment<3>(o + 3);
+      L.gradient.segment<3>(o + 3) = R.transpose() * g_rot;
+      if (with_hessian) {
+        const Eigen::MatrixXd rows = L.hessian.middleRows(o + 3, 3);
+        L.hessian.middleRows(o + 3, 3).noalias() = R.transpose().lazyProduct(rows);
+        const Eigen::MatrixXd cols = L.hessian.middleCols(o + 3, 3);
+        L.hessian.middleCols(o + 3, 3).noalias() = cols.lazyProduct(R);
+      }
+      continue;
+    }
     const Eigen::MatrixXd D = minusJacobianAt(p.manifolds[k], p.sizes[k], x[k], p.x0[k].data());
     L.gradient.segment(o, t) = D.transpose() * L.gradient.segment(o, t);
     if (with_hessian) {
