@@ -49,6 +49,8 @@ inline int paeth(int a, int b, int c) {
 // Undoes one row's filter in place (PNG spec 9.2). `prior` is the row above, already unfiltered,
 // or null for the first row, where it reads as zeros: Up is then None, Paeth is Sub. The first
 // `bpp` bytes have no left neighbour (zero): Average adds half the byte above, Paeth the byte above.
+// The 8-bit loops carry the left neighbour in a register: read back from the row just written, it
+// waited on the store every byte (the decoder ran slower than libpng on EuRoC's Paeth rows).
 bool unfilterRow(int type, uint8_t* row, const uint8_t* prior, size_t n, size_t bpp) {
   if (!prior && type == 2) type = 0;
   if (!prior && type == 4) type = 1;
@@ -56,6 +58,11 @@ bool unfilterRow(int type, uint8_t* row, const uint8_t* prior, size_t n, size_t 
     case 0:
       return true;
     case 1:
+      if (bpp == 1) {
+        uint8_t left = row[0];
+        for (size_t i = 1; i < n; ++i) row[i] = left = static_cast<uint8_t>(row[i] + left);
+        return true;
+      }
       for (size_t i = bpp; i < n; ++i) row[i] = static_cast<uint8_t>(row[i] + row[i - bpp]);
       return true;
     case 2:
@@ -67,11 +74,26 @@ bool unfilterRow(int type, uint8_t* row, const uint8_t* prior, size_t n, size_t 
         return true;
       }
       for (size_t i = 0; i < bpp; ++i) row[i] = static_cast<uint8_t>(row[i] + (prior[i] >> 1));
+      if (bpp == 1) {
+        int left = row[0];
+        for (size_t i = 1; i < n; ++i) row[i] = static_cast<uint8_t>(left = static_cast<uint8_t>(row[i] + ((left + prior[i]) >> 1)));
+        return true;
+      }
       for (size_t i = bpp; i < n; ++i)
         row[i] = static_cast<uint8_t>(row[i] + ((row[i - bpp] + prior[i]) >> 1));
       return true;
     case 4:
       for (size_t i = 0; i < bpp; ++i) row[i] = static_cast<uint8_t>(row[i] + prior[i]);
+      if (bpp == 1) {
+        int left = row[0], up_left = prior[0];
+        for (size_t i = 1; i < n; ++i) {
+          const int up = prior[i];
+          left = static_cast<uint8_t>(row[i] + paeth(left, up, up_left));
+          row[i] = static_cast<uint8_t>(left);
+          up_left = up;
+        }
+        return true;
+      }
       for (size_t i = bpp; i < n; ++i)
         row[i] = static_cast<uint8_t>(row[i] + paeth(row[i - bpp], prior[i], prior[i - bpp]));
       return true;
