@@ -30,16 +30,23 @@ std::vector<std::string> eurocImages() {
   return paths;
 }
 
-void BM_ReadImageFile(benchmark::State& state) {
-  const std::vector<std::string> paths = eurocImages();
+cv::Mat readWithAdugs(const std::string& path) {
+  return adugs::data::readImageFile(path, adugs::data::ImageRead::kGrey);
+}
+cv::Mat readWithOpenCv(const std::string& path) { return cv::imread(path, cv::IMREAD_GRAYSCALE); }
+
+// Reads the files in turn, one per iteration.
+void readAll(benchmark::State& state, const std::vector<std::string>& paths, cv::Mat (*read)(const std::string&)) {
   if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
   size_t i = 0;
   for (auto _ : state) {
-    cv::Mat image = adugs::data::readImageFile(paths[i++ % paths.size()], adugs::data::ImageRead::kGrey);
+    cv::Mat image = read(paths[i++ % paths.size()]);
     benchmark::DoNotOptimize(image.data);
   }
   state.SetItemsProcessed(state.iterations());
 }
+
+void BM_ReadImageFile(benchmark::State& state) { readAll(state, eurocImages(), readWithAdugs); }
 
 // The frames re-encoded by data::writeImageFile into a folder that lives as long as the process.
 const std::vector<std::string>& writtenImages() {
@@ -53,38 +60,11 @@ const std::vector<std::string>& writtenImages() {
   return paths;
 }
 
-void BM_ReadImageFileWritten(benchmark::State& state) {
-  const std::vector<std::string>& paths = writtenImages();
-  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
-  size_t i = 0;
-  for (auto _ : state) {
-    cv::Mat image = adugs::data::readImageFile(paths[i++ % paths.size()], adugs::data::ImageRead::kGrey);
-    benchmark::DoNotOptimize(image.data);
-  }
-  state.SetItemsProcessed(state.iterations());
-}
+void BM_ReadImageFileWritten(benchmark::State& state) { readAll(state, writtenImages(), readWithAdugs); }
 
-void BM_ReadOpenCvWritten(benchmark::State& state) {
-  const std::vector<std::string>& paths = writtenImages();
-  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
-  size_t i = 0;
-  for (auto _ : state) {
-    cv::Mat image = cv::imread(paths[i++ % paths.size()], cv::IMREAD_GRAYSCALE);
-    benchmark::DoNotOptimize(image.data);
-  }
-  state.SetItemsProcessed(state.iterations());
-}
+void BM_ReadOpenCvWritten(benchmark::State& state) { readAll(state, writtenImages(), readWithOpenCv); }
 
-void BM_ReadOpenCv(benchmark::State& state) {
-  const std::vector<std::string> paths = eurocImages();
-  if (paths.empty()) return state.SkipWithError("../shared/data/euroc_v101_micro is absent");
-  size_t i = 0;
-  for (auto _ : state) {
-    cv::Mat image = cv::imread(paths[i++ % paths.size()], cv::IMREAD_GRAYSCALE);
-    benchmark::DoNotOptimize(image.data);
-  }
-  state.SetItemsProcessed(state.iterations());
-}
+void BM_ReadOpenCv(benchmark::State& state) { readAll(state, eurocImages(), readWithOpenCv); }
 
 void BM_ReadVispImageIo(benchmark::State& state) {
   const std::vector<std::string> paths = eurocImages();

@@ -339,50 +339,58 @@ TEST(Marginalization, SemiDefiniteSchurComplementKeepsItsRankOnly) {
   EXPECT_LT(std::abs(prior->b.dot(together)), 1e-9 * (1.0 + prior->b.norm()));
 }
 
-TEST(Marginalization, PriorFactorJacobiansMatchNumericAwayFromLinearisationPoint) {
-  const PoseManifold pm;
-  const ceres::EigenQuaternionManifold quaternion_manifold;  // exercises the generic Minus path
-  std::mt19937 rng(4);
-  std::normal_distribution<double> n(0.0, 1.0);
+// A random dense linear prior over [pose a (6), quaternion q (3), Euclidean e (2), pose b (6)]
+// (residual form J, r and its information form H, b, c), and values x away from its x0 (larger
+// rotations make Jr^-1 matter): the generic Minus path (quaternion), the pose one and none.
+struct PriorAwayFromX0 {
+  PoseManifold pm;
+  ceres::EigenQuaternionManifold quaternion_manifold;
   Pose a = pose({0, 0, 0}, {0.1, 0.2, -0.3}), b = pose({1, 2, 3}, {0.5, -0.1, 0.2});
-  std::array<double, 4> q;
-  Eigen::Map<Eigen::Quaterniond>(q.data()) = quaternionExp(Eigen::Vector3d(0.3, 0.3, -0.2));
+  std::array<double, 4> q{};
   std::array<double, 2> e{1.0, -2.0};
-  // A random dense linear prior over [a (6), q (3), e (2), b (6)].
-  auto prior = std::make_shared<MarginalizationPrior>();
-  prior->blocks = {a.data(), q.data(), e.data(), b.data()};
-  prior->sizes = {7, 4, 2, 7};
-  prior->tangent_sizes = {6, 3, 2, 6};
-  prior->tangent_offsets = {0, 6, 9, 11};
-  prior->manifolds = {&pm, &quaternion_manifold, nullptr, &pm};
-  for (double* block : prior->blocks) {
-    const int size = prior->sizes[prior->x0.size()];
-    prior->x0.emplace_back(block, block + size);
-  }
-  prior->J.resize(17, 17);
-  prior->r.resize(17);
-  for (int i = 0; i < prior->J.size(); ++i) prior->J.data()[i] = n(rng);
-  for (int i = 0; i < 17; ++i) prior->r(i) = n(rng);
-  const MarginalizationFactor factor(prior);
-
-  // Move away from x0 (larger rotations make Jr^-1 matter).
-  Eigen::Matrix<double, 6, 1> d;
-  d << 0.1, -0.2, 0.3, 0.4, -0.3, 0.5;
-  Pose a2, b2;
-  pm.Plus(a.data(), d.data(), a2.data());
-  pm.Plus(b.data(), (-d).eval().data(), b2.data());
-  std::array<double, 4> q2;
-  const Eigen::Vector3d dq(0.2, -0.4, 0.1);
-  quaternion_manifold.Plus(q.data(), dq.data(), q2.data());
+  std::shared_ptr<MarginalizationPrior> prior = std::make_shared<MarginalizationPrior>();
+  Pose a2{}, b2{};
+  std::array<double, 4> q2{};
   std::array<double, 2> e2{1.5, -1.0};
-  const auto result = testing::checkJacobians(factor, {a2.data(), q2.data(), e2.data(), b2.data()},
-                                              {&pm, &quaternion_manifold, nullptr, &pm}, 1e-5);
+
+  explicit PriorAwayFromX0(unsigned seed) {
+    Eigen::Map<Eigen::Quaterniond>(q.data()) = quaternionExp(Eigen::Vector3d(0.3, 0.3, -0.2));
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, 1.0);
+    prior->blocks = {a.data(), q.data(), e.data(), b.data()};
+    prior->sizes = {7, 4, 2, 7};
+    prior->tangent_sizes = {6, 3, 2, 6};
+    prior->tangent_offsets = {0, 6, 9, 11};
+    prior->manifolds = {&pm, &quaternion_manifold, nullptr, &pm};
+    for (size_t k = 0; k < prior->blocks.size(); ++k)
+      prior->x0.emplace_back(prior->blocks[k], prior->blocks[k] + prior->sizes[k]);
+    prior->J.resize(17, 17);
+    prior->r.resize(17);
+    for (int i = 0; i < prior->J.size(); ++i) prior->J.data()[i] = n(rng);
+    for (int i = 0; i < 17; ++i) prior->r(i) = n(rng);
+    prior->H = prior->J.transpose() * prior->J;
+    prior->b = prior->J.transpose() * prior->r;
+    prior->c = prior->r.squaredNorm();
+    Eigen::Matrix<double, 6, 1> d;
+    d << 0.1, -0.2, 0.3, 0.4, -0.3, 0.5;
+    pm.Plus(a.data(), d.data(), a2.data());
+    pm.Plus(b.data(), (-d).eval().data(), b2.data());
+    const Eigen::Vector3d dq(0.2, -0.4, 0.1);
+    quaternion_manifold.Plus(q.data(), dq.data(), q2.data());
+  }
+  std::vector<double*> x() { return {a2.data(), q2.data(), e2.data(), b2.data()}; }
+};
+
+TEST(Marginalization, PriorFactorJacobiansMatchNumericAwayFromLinearisationPoint) {
+  PriorAwayFromX0 f(4);
+  const MarginalizationFactor factor(f.prior);
+  const auto result = testing::checkJacobians(factor, f.x(), {&f.pm, &f.quaternion_manifold, nullptr, &f.pm}, 1e-5);
   EXPECT_TRUE(result.ok) << result.report;
   // At x0 the residual is r_p.
   Eigen::VectorXd r(17);
-  const double* at_x0[] = {a.data(), q.data(), e.data(), b.data()};
+  const double* at_x0[] = {f.a.data(), f.q.data(), f.e.data(), f.b.data()};
   ASSERT_TRUE(factor.Evaluate(at_x0, r.data(), nullptr));
-  EXPECT_LT((r - prior->r).norm(), 1e-12);
+  EXPECT_LT((r - f.prior->r).norm(), 1e-12);
 }
 
 // The information form the window solver uses (linearizePrior: cost, gradient D^T (b + H m) and
@@ -390,67 +398,37 @@ TEST(Marginalization, PriorFactorJacobiansMatchNumericAwayFromLinearisationPoint
 // residual form's tangent Jacobians (checked against numeric ones above), away from x0: through
 // the pose blocks' own chain rule, the generic quaternion path and a Euclidean block.
 TEST(Marginalization, InformationFormIsTheResidualFormsNormalEquationsAwayFromLinearisationPoint) {
-  const PoseManifold pm;
-  const ceres::EigenQuaternionManifold quaternion_manifold;
-  std::mt19937 rng(9);
-  std::normal_distribution<double> n(0.0, 1.0);
-  Pose a = pose({0, 0, 0}, {0.1, 0.2, -0.3}), b = pose({1, 2, 3}, {0.5, -0.1, 0.2});
-  std::array<double, 4> q;
-  Eigen::Map<Eigen::Quaterniond>(q.data()) = quaternionExp(Eigen::Vector3d(0.3, 0.3, -0.2));
-  std::array<double, 2> e{1.0, -2.0};
-  auto prior = std::make_shared<MarginalizationPrior>();
-  prior->blocks = {a.data(), q.data(), e.data(), b.data()};
-  prior->sizes = {7, 4, 2, 7};
-  prior->tangent_sizes = {6, 3, 2, 6};
-  prior->tangent_offsets = {0, 6, 9, 11};
-  prior->manifolds = {&pm, &quaternion_manifold, nullptr, &pm};
-  for (size_t k = 0; k < prior->blocks.size(); ++k)
-    prior->x0.emplace_back(prior->blocks[k], prior->blocks[k] + prior->sizes[k]);
-  prior->J.resize(17, 17);
-  prior->r.resize(17);
-  for (int i = 0; i < prior->J.size(); ++i) prior->J.data()[i] = n(rng);
-  for (int i = 0; i < 17; ++i) prior->r(i) = n(rng);
-  prior->H = prior->J.transpose() * prior->J;
-  prior->b = prior->J.transpose() * prior->r;
-  prior->c = prior->r.squaredNorm();
-  const MarginalizationFactor factor(prior);
-
-  Eigen::Matrix<double, 6, 1> d;
-  d << 0.1, -0.2, 0.3, 0.4, -0.3, 0.5;
-  Pose a2, b2;
-  pm.Plus(a.data(), d.data(), a2.data());
-  pm.Plus(b.data(), (-d).eval().data(), b2.data());
-  std::array<double, 4> q2;
-  const Eigen::Vector3d dq(0.2, -0.4, 0.1);
-  quaternion_manifold.Plus(q.data(), dq.data(), q2.data());
-  std::array<double, 2> e2{1.5, -1.0};
-  const std::vector<const double*> x = {a2.data(), q2.data(), e2.data(), b2.data()};
+  PriorAwayFromX0 f(9);
+  const MarginalizationFactor factor(f.prior);
+  const std::vector<double*> values = f.x();
+  const std::vector<const double*> x(values.begin(), values.end());
+  const MarginalizationPrior& prior = *f.prior;
 
   // The residual form's residual and tangent Jacobian at x.
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   Eigen::VectorXd r(17);
   std::vector<RowMajor> ambient;
   std::vector<double*> jacobians;
-  for (int size : prior->sizes) ambient.emplace_back(17, size);
+  for (int size : prior.sizes) ambient.emplace_back(17, size);
   for (RowMajor& J : ambient) jacobians.push_back(J.data());
-  ASSERT_TRUE(factor.Evaluate(x.data(), r.data(), jacobians.data()));
+  ASSERT_TRUE(factor.Evaluate(values.data(), r.data(), jacobians.data()));
   Eigen::MatrixXd J_t(17, 17);
   for (size_t k = 0; k < x.size(); ++k) {
-    const ceres::Manifold* m = prior->manifolds[k];
-    RowMajor plus = RowMajor::Identity(prior->sizes[k], prior->tangent_sizes[k]);
+    const ceres::Manifold* m = prior.manifolds[k];
+    RowMajor plus = RowMajor::Identity(prior.sizes[k], prior.tangent_sizes[k]);
     if (m) {
       ASSERT_TRUE(m->PlusJacobian(x[k], plus.data()));
     }
-    J_t.middleCols(prior->tangent_offsets[k], prior->tangent_sizes[k]) = ambient[k] * plus;
+    J_t.middleCols(prior.tangent_offsets[k], prior.tangent_sizes[k]) = ambient[k] * plus;
   }
 
-  const PriorLinearization L = linearizePrior(*prior, x, true);
+  const PriorLinearization L = linearizePrior(prior, x, true);
   EXPECT_NEAR(L.cost, 0.5 * r.squaredNorm(), 1e-9 * r.squaredNorm());
   EXPECT_LT((L.gradient - J_t.transpose() * r).norm(), 1e-9 * (J_t.transpose() * r).norm());
   const Eigen::MatrixXd H = J_t.transpose() * J_t;
   EXPECT_LT((L.hessian - H).norm(), 1e-9 * H.norm()) << "linearizePrior:\n" << L.hessian << "\nJ_t^T J_t:\n" << H;
   // Without the Hessian: the same cost and gradient.
-  const PriorLinearization cheap = linearizePrior(*prior, x, false);
+  const PriorLinearization cheap = linearizePrior(prior, x, false);
   EXPECT_EQ(cheap.cost, L.cost);
   EXPECT_EQ(cheap.gradient, L.gradient);
   EXPECT_EQ(cheap.hessian.size(), 0);
