@@ -11,8 +11,6 @@ namespace adugs::data {
 namespace {
 
 constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-// As image_file.cpp: a header asking for more is left to libpng, which refuses it by name.
-constexpr uint64_t kMaxImageBytes = uint64_t{512} << 20;
 
 uint32_t bigEndian32(const uint8_t* p) {
   return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};

@@ -18,6 +18,11 @@ namespace adugs::data {
 // The bytes a caller needs to see to know whether a PNG has that shape: signature and IHDR.
 constexpr size_t kGreyPngHeadBytes = 33;
 
+// Larger than any camera's frame (an 8K 16-bit colour image is 200 MB); a corrupt header asking
+// for more is refused before allocating (image_file.cpp), or left to libpng, which refuses it by
+// name (grey_png.cpp).
+constexpr uint64_t kMaxImageBytes = uint64_t{512} << 20;
+
 // Callers keep their per-thread read buffers below this (a frame is well under 1 MB; one huge
 // image should not stay in a thread's memory).
 constexpr size_t kKeptBufferBytes = size_t{16} << 20;

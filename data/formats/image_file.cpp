@@ -29,9 +29,6 @@
 namespace adugs::data {
 namespace {
 
-// Larger than any camera's frame (an 8K 16-bit colour image is 200 MB); a corrupt header asking
-// for more is refused before allocating.
-constexpr uint64_t kMaxImageBytes = uint64_t{512} << 20;
 // The ancillary chunks that do not change the pixels adugs reads (the colour-space ones, gAMA,
 // cHRM, sRGB, iCCP, do: libpng converts colour to grey through them, as for OpenCV), as 4-letter
 // names each ended by a zero byte.
