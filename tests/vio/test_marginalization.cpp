@@ -434,5 +434,72 @@ TEST(Marginalization, InformationFormIsTheResidualFormsNormalEquationsAwayFromLi
   EXPECT_EQ(cheap.hessian.size(), 0);
 }
 
+// A gauge correction turns and shifts the whole window (the estimator's removeGaugeDrift); the
+// prior moved with it (moveWorldFrame) must cost at the moved states what it cost before, with
+// its gradient turned alike. Left where it was linearised, it cost more there and pulled the window
+// back by the correction in every solve (hybrid V1_01: 2-3 rejected steps per solve).
+TEST(Marginalization, PriorMovedWithTheWorldFrameCostsTheSameAtTheMovedStates) {
+  const PoseManifold pm;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  // A pose, a speed-bias [v, ba, bg], and an extrinsic-like pose the move leaves alone.
+  Pose pose_a = pose({1, -2, 0.5}, {0.2, -0.1, 0.7}), extrinsic = pose({0.1, 0, 0}, {0, 0.2, 0});
+  std::array<double, 9> sb{0.5, -0.3, 0.1, 0.01, 0.02, -0.01, 0.001, -0.002, 0.003};
+  auto prior = std::make_shared<MarginalizationPrior>();
+  prior->blocks = {pose_a.data(), sb.data(), extrinsic.data()};
+  prior->sizes = {7, 9, 7};
+  prior->tangent_sizes = {6, 9, 6};
+  prior->tangent_offsets = {0, 6, 15};
+  prior->manifolds = {&pm, nullptr, &pm};
+  for (size_t k = 0; k < prior->blocks.size(); ++k)
+    prior->x0.emplace_back(prior->blocks[k], prior->blocks[k] + prior->sizes[k]);
+  prior->J = randomMatrix(21, 21, rng);
+  prior->r = randomMatrix(21, 1, rng);
+  prior->H = prior->J.transpose() * prior->J;
+  prior->b = prior->J.transpose() * prior->r;
+  prior->c = prior->r.squaredNorm();
+
+  // The states a solve left: away from x0.
+  Eigen::Matrix<double, 6, 1> d;
+  d << 0.1, -0.2, 0.3, 0.05, -0.1, 0.2;
+  Pose a{}, e{};
+  pm.Plus(pose_a.data(), d.data(), a.data());
+  pm.Plus(extrinsic.data(), (0.1 * d).eval().data(), e.data());
+  std::array<double, 9> v = sb;
+  for (double& x : v) x += 0.05 * n(rng);
+  const PriorLinearization before = linearizePrior(*prior, {a.data(), v.data(), e.data()}, false);
+
+  // The gauge correction: a turn about world z and a shift, on the window's pose and velocity.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d t(0.3, -1.2, 0.05);
+  Pose a_moved{};
+  setPose(R * posePosition(a.data()) + t, Eigen::Quaterniond(R) * poseRotation(a.data()),
+          a_moved.data());
+  std::array<double, 9> v_moved = v;
+  Eigen::Map<Eigen::Vector3d>(v_moved.data()) = R * Eigen::Vector3d(v[0], v[1], v[2]);
+  const std::vector<const double*> moved_states = {a_moved.data(), v_moved.data(), e.data()};
+
+  const auto moved = moveWorldFrame(*prior, R, t, {pose_a.data()}, {sb.data()});
+  const PriorLinearization after = linearizePrior(*moved, moved_states, false);
+  EXPECT_NEAR(after.cost, before.cost, 1e-9 * before.cost);
+  // Gradient in the tangent spaces: the world-frame parts (dp, dv) turn with R; the rotation (on
+  // the right: in the body frame), the biases and the untouched extrinsic do not.
+  Eigen::VectorXd expected = before.gradient;
+  expected.segment<3>(0) = R * before.gradient.segment<3>(0);
+  expected.segment<3>(6) = R * before.gradient.segment<3>(6);
+  EXPECT_LT((after.gradient - expected).norm(), 1e-9 * expected.norm());
+  EXPECT_EQ(moved->x0[2], prior->x0[2]) << "a block in neither list must not move";
+  // The residual form moved alike: J' (x' [-] x0') = J (x [-] x0).
+  const MarginalizationFactor factor_before(prior), factor_after(moved);
+  Eigen::VectorXd r_before(21), r_after(21);
+  const double* x_before[] = {a.data(), v.data(), e.data()};
+  ASSERT_TRUE(factor_before.Evaluate(x_before, r_before.data(), nullptr));
+  ASSERT_TRUE(factor_after.Evaluate(moved_states.data(), r_after.data(), nullptr));
+  EXPECT_LT((r_after - r_before).norm(), 1e-9 * r_before.norm());
+  // What the estimator did before: the prior left in place costs more at the moved states.
+  const PriorLinearization unmoved = linearizePrior(*prior, moved_states, false);
+  EXPECT_GT(unmoved.cost, 1.5 * before.cost);
+}
+
 }  // namespace
 }  // namespace adugs::vio

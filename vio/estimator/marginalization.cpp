@@ -315,6 +315,36 @@ Eigen::MatrixXd minusJacobianAt(const ceres::Manifold* manifold, int size, const
   return D;
 }
 
+std::shared_ptr<const MarginalizationPrior> moveWorldFrame(
+    const MarginalizationPrior& prior, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+    const std::vector<const double*>& pose_blocks,
+    const std::vector<const double*>& speed_bias_blocks) {
+  auto moved = std::make_shared<MarginalizationPrior>(prior);
+  auto listed = [](const std::vector<const double*>& list, const double* b) {
+    return std::find(list.begin(), list.end(), b) != list.end();
+  };
+  for (size_t k = 0; k < prior.blocks.size(); ++k) {
+    const bool pose = listed(pose_blocks, prior.blocks[k]);
+    if (!pose && !listed(speed_bias_blocks, prior.blocks[k])) continue;
+    // Both tangents start with the world-frame vector that turns (dp of a pose, whose rotation is
+    // perturbed on the right and so unchanged; dv of a speed-bias): m' = T m with T = R there.
+    double* x0 = moved->x0[k].data();
+    if (pose) {
+      setPose(R * posePosition(x0) + t, Eigen::Quaterniond(R) * poseRotation(x0), x0);
+    } else {
+      Eigen::Map<Eigen::Vector3d> v0(x0);
+      v0 = R * Eigen::Vector3d(v0);
+    }
+    // Cost c + 2 b^T m + m^T H m at m = T^T m': H' = T H T^T, b' = T b, J' = J T^T.
+    const int o = prior.tangent_offsets[k];
+    moved->H.middleRows(o, 3) = (R * moved->H.middleRows(o, 3)).eval();
+    moved->H.middleCols(o, 3) = (moved->H.middleCols(o, 3) * R.transpose()).eval();
+    moved->b.segment<3>(o) = R * moved->b.segment<3>(o);
+    moved->J.middleCols(o, 3) = (moved->J.middleCols(o, 3) * R.transpose()).eval();
+  }
+  return moved;
+}
+
 PriorLinearization linearizePrior(const MarginalizationPrior& p, const std::vector<const double*>& x,
                                   bool with_hessian) {
   const int n = p.tangentSize();

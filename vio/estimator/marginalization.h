@@ -83,6 +83,17 @@ class Marginalizer {
   const ceres::Manifold* manifoldOf(const double* block) const;
 };
 
+// The same prior after the window's states went through a change of world frame
+// x -> (R p + t, R q) on the pose blocks and v -> R v on the speed-bias blocks ([v, ba, bg]); every
+// other block is unchanged. Its linearisation point moves with them and its information and
+// gradient are rotated alike, so that the prior's cost at the moved states equals its cost at the
+// states before (what a gauge correction of the window needs: the prior must not pull it back).
+// Blocks of the prior that are in neither list are left as they are.
+std::shared_ptr<const MarginalizationPrior> moveWorldFrame(
+    const MarginalizationPrior& prior, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+    const std::vector<const double*>& pose_blocks,
+    const std::vector<const double*>& speed_bias_blocks);
+
 // The prior as a cost on the kept blocks (in the order of prior.blocks).
 class MarginalizationFactor : public ceres::CostFunction {
  public:

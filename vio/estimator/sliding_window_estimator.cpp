@@ -535,13 +535,19 @@ void SlidingWindowEstimator::removeGaugeDrift(const Eigen::Vector3d& p0_before,
   const Eigen::Matrix3d delta = R0_before * frames_.front()->q().toRotationMatrix().transpose();
   const double yaw = std::atan2(delta(1, 0) - delta(0, 1), delta(0, 0) + delta(1, 1));
   const Eigen::Matrix3d Rz = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d p0_after = frames_.front()->p();
+  moveWorld(Rz, p0_before - Rz * frames_.front()->p());
+}
+
+void SlidingWindowEstimator::moveWorld(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  std::vector<const double*> poses, speed_biases;
   for (auto& f : frames_) {
-    const Eigen::Vector3d p = Rz * (f->p() - p0_after) + p0_before;
-    setPose(p, Eigen::Quaterniond(Rz) * f->q(), f->pose);
-    Eigen::Map<Eigen::Vector3d> v(f->speed_bias);
-    v = Rz * Eigen::Vector3d(v);
+    setPose(R * f->p() + t, Eigen::Quaterniond(R) * f->q(), f->pose);
+    setSpeedBias(R * f->v(), f->ba(), f->bg(), f->speed_bias);
+    poses.push_back(f->pose), speed_biases.push_back(f->speed_bias);
   }
+  // The prior moves with the window: left where it was linearised, it would pull the window back
+  // by the move in the next solve (doc/estimator.md, "Gauge").
+  if (prior_) prior_ = moveWorldFrame(*prior_, R, t, poses, speed_biases);
 }
 
 bool SlidingWindowEstimator::failureDetected(const Eigen::Vector3d& predicted_p,
@@ -611,12 +617,7 @@ void SlidingWindowEstimator::continueFromDeadReckoning() {
   const Frame& oldest = *frames_.front();
   const Eigen::Matrix3d R = it->second.q_W_B.toRotationMatrix() * oldest.q().toRotationMatrix().transpose();
   const Eigen::Matrix3d R_yaw = Eigen::AngleAxisd(std::atan2(R(1, 0), R(0, 0)), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d p_oldest = oldest.p();
-  for (auto& f : frames_) {
-    const Eigen::Vector3d p = it->second.p_W_B + R_yaw * (f->p() - p_oldest);
-    setPose(p, Eigen::Quaterniond(R_yaw * f->q().toRotationMatrix()).normalized(), f->pose);
-    setSpeedBias(R_yaw * f->v(), f->ba(), f->bg(), f->speed_bias);
-  }
+  moveWorld(R_yaw, it->second.p_W_B - R_yaw * oldest.p());
   ++stats_.resets_continued;
   dead_reckoned_.clear();
 }

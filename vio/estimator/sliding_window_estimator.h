@@ -146,6 +146,9 @@ class SlidingWindowEstimator {
   // Removes landmarks whose mean reprojection error exceeds options_.outlier_reprojection_px.
   void rejectOutliers();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);
+  // Moves every window frame to a new world frame, p -> R p + t, q -> R q, v -> R v (R about
+  // gravity), and the marginalisation prior with them.
+  void moveWorld(const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
   bool failureDetected(const Eigen::Vector3d& predicted_p, std::string* why) const;
   // imu_continuous: the IMU stream has no hole, so the last state can be carried through.
   void reset(const std::string& why, bool imu_continuous = true);
