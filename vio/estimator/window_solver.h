@@ -151,6 +151,10 @@ class WindowSolver {
   // block by block; overwrites S. False if S is not positive definite.
   bool solveChainFirst(Eigen::MatrixXd& S, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
   void applyStep(const Eigen::VectorXd& step_dense, const std::vector<double>& step_landmarks);
+  // Whether a step from the current point to one of this cost ends the solve (function_tolerance).
+  bool convergedBy(double cost, const WindowSolverOptions& options) const {
+    return current_.cost - cost <= options.function_tolerance * current_.cost;
+  }
   void restore();
 
   std::vector<Block> blocks_;
