@@ -3,7 +3,8 @@
 # and runs each one for a bounded time.
 #   scripts/fuzz.sh [fuzz_csv|fuzz_yaml|fuzz_onnx|fuzz_device|fuzz_image ...]
 #   FUZZ_SECONDS  seconds per target (default 60)      FUZZ_JOBS  build jobs (default 2)
-#   FUZZ_BUILD_DIR (default <repo>/build-fuzz)
+#   FUZZ_BUILD_DIR (default <repo>/build-fuzz; a build already configured with -DADUGS_FUZZ=ON, such
+#   as scripts/sanitize.sh's build-asan, is used as it is: CI runs the targets from there)
 # Fails (exit 1) if a target crashes, throws anything but InputError, trips a sanitizer, leaks or
 # times out. The reproducer is written to $FUZZ_BUILD_DIR/fuzz-artifacts/ and the log to
 # $FUZZ_BUILD_DIR/fuzz-<target>.log; replay with: $FUZZ_BUILD_DIR/tests/fuzz/<target> <file>
@@ -22,9 +23,11 @@ mkdir -p "$build"
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$repo}"
 # RelWithDebInfo has -g, for which ccache hashes the working directory unless told not to.
 export CCACHE_NOHASHDIR=1
-CC=clang CXX=clang++ cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DADUGS_FUZZ=ON -DADUGS_BUILD_TESTS=OFF -DADUGS_BUILD_BENCHMARKS=OFF >"$build/configure.log" 2>&1 ||
-  { cat "$build/configure.log"; exit 1; }
+if ! grep -qx "ADUGS_FUZZ:BOOL=ON" "$build/CMakeCache.txt" 2>/dev/null; then
+  CC=clang CXX=clang++ cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DADUGS_FUZZ=ON -DADUGS_BUILD_TESTS=OFF -DADUGS_BUILD_BENCHMARKS=OFF >"$build/configure.log" 2>&1 ||
+    { cat "$build/configure.log"; exit 1; }
+fi
 cmake --build "$build" -j "${FUZZ_JOBS:-2}" --target "${targets[@]}"
 
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"

@@ -1,5 +1,9 @@
 #include "tests/test_support.h"
 
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +22,9 @@
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "data/camera_model.h"
+#include "data/input_error.h"
 
 #include <gtest/gtest.h>
 
@@ -211,6 +218,26 @@ int runCommand(const std::string& command, std::string* output) {
   int status = pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void expectInputError(const std::function<void()>& f, const std::vector<std::string>& fragments) {
+  try {
+    f();
+    ADD_FAILURE() << "no data::InputError thrown";
+  } catch (const data::InputError& e) {
+    for (const std::string& s : fragments)
+      EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << e.what() << "\nlacks: " << s;
+  }
+}
+
+bool samePixels(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  return a.empty() || cv::norm(a, b, cv::NORM_INF) == 0;
+}
+
+std::array<double, 8> paramsOf(const data::CameraModel& cam) {
+  const auto& k = cam.coeffs();
+  return {cam.fx(), cam.fy(), cam.cx(), cam.cy(), k[0], k[1], k[2], k[3]};
 }
 
 }  // namespace adugs::test

@@ -1,13 +1,36 @@
 #pragma once
 // Helpers shared by the test suites: where the shared real data lives, temp folders, running adugs.
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <sys/types.h>
 
+namespace cv {
+class Mat;
+}
+namespace adugs::data {
+class CameraModel;
+}
+
 namespace adugs::test {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+// The repository's root (the build's ADUGS_SOURCE_DIR).
+inline const std::string kSourceDir = ADUGS_SOURCE_DIR;
+
+// Expects data::InputError from f whose message contains every given fragment.
+void expectInputError(const std::function<void()>& f, const std::vector<std::string>& fragments);
+
+// Same size, type and every pixel (two empty images are the same).
+bool samePixels(const cv::Mat& a, const cv::Mat& b);
+
+// [fu fv pu pv d0..d3], the camera model templates' parameter block.
+std::array<double, 8> paramsOf(const data::CameraModel& cam);
 
 // ../shared (or $ADUGS_SHARED_DATA/.. semantics: $ADUGS_SHARED_DATA points at shared/data).
 std::filesystem::path sharedDataDir();    // .../shared/data

@@ -56,7 +56,7 @@ void readHeader(YamlOptionsReader& r, const std::string& expected_type) {
   r.optional("comment", comment);
 }
 
-Eigen::Isometry3d readTransform(YamlOptionsReader& parent, const std::string& key) {
+Eigen::Isometry3d readEurocTransform(YamlOptionsReader& parent, const std::string& key) {
   YamlOptionsReader r = parent.child(key, true);
   int rows = 0, cols = 0;
   std::vector<double> data;
@@ -75,14 +75,12 @@ void requirePositive(const YamlOptionsReader& r, const std::string& key, double 
   r.check(v > 0, key, "must be positive, found " + detail::numberText(v));
 }
 
-std::string num(double v) { return shortestText(v); }
-std::string list(const std::vector<double>& v) { return listText(v); }
 
 std::string transformYaml(const Eigen::Isometry3d& T) {
   std::string s = "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) {
-      s += num(T.matrix()(r, c));
+      s += shortestText(T.matrix()(r, c));
       s += c < 3 ? ", " : r < 3 ? ",\n         " : "]\n";
     }
   }
@@ -103,7 +101,7 @@ namespace {
 CameraCalibration parseCamera(YamlOptionsReader r) {
   readHeader(r, "camera");
   CameraCalibration cam;
-  cam.T_B_C = readTransform(r, "T_BS");
+  cam.T_B_C = readEurocTransform(r, "T_BS");
 
   r.required("rate_hz", cam.rate_hz);
   requirePositive(r, "rate_hz", cam.rate_hz);
@@ -157,7 +155,7 @@ CameraCalibration parseCamera(YamlOptionsReader r) {
 ImuNoise parseImu(YamlOptionsReader r) {
   readHeader(r, "imu");
   ImuNoise imu;
-  if (r.has("T_BS")) imu.T_B_I = readTransform(r, "T_BS");
+  if (r.has("T_BS")) imu.T_B_I = readEurocTransform(r, "T_BS");
   struct Field {
     const char* key;
     double* value;
@@ -200,27 +198,27 @@ std::string formatEurocCameraYaml(const CameraCalibration& c, const std::string&
   s += "comment: \"" + quoted + "\"\n\n# Sensor extrinsics wrt. the body-frame.\n";
   s += transformYaml(c.T_B_C);
   s += "\n# Camera specific definitions.\n";
-  s += "rate_hz: " + num(c.rate_hz) + "\n";
+  s += "rate_hz: " + shortestText(c.rate_hz) + "\n";
   s += "resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n";
   // A wide-angle lens names its model here (a pinhole-only EuRoC reader then refuses the file
   // rather than misreading it); pinhole files stay plain EuRoC.
   s += "camera_model: " + toString(c.projection) + "\n";
-  s += "intrinsics: " + list({c.fx, c.fy, c.cx, c.cy}) + " #fu, fv, cu, cv\n";
-  if (c.projection != ProjectionModel::kPinhole) s += "projection_params: " + list(c.projection_params) + "\n";
+  s += "intrinsics: " + listText({c.fx, c.fy, c.cx, c.cy}) + " #fu, fv, cu, cv\n";
+  if (c.projection != ProjectionModel::kPinhole) s += "projection_params: " + listText(c.projection_params) + "\n";
   s += "distortion_model: " + toString(c.distortion_model) + "\n";
-  s += "distortion_coefficients: " + list(c.distortion) + "\n";
+  s += "distortion_coefficients: " + listText(c.distortion) + "\n";
   return s;
 }
 
 std::string formatEurocImuYaml(const ImuNoise& imu) {
   std::string s = "%YAML:1.0\nsensor_type: imu\ncomment: written by adugs\n\n";
   s += "# Sensor extrinsics wrt. the body-frame.\n" + transformYaml(imu.T_B_I);
-  s += "rate_hz: " + num(imu.rate_hz) + "\n\n";
+  s += "rate_hz: " + shortestText(imu.rate_hz) + "\n\n";
   s += "# inertial sensor noise model parameters (static)\n";
-  s += "gyroscope_noise_density: " + num(imu.gyro_noise_density) + "  # [ rad / s / sqrt(Hz) ]\n";
-  s += "gyroscope_random_walk: " + num(imu.gyro_random_walk) + "  # [ rad / s^2 / sqrt(Hz) ]\n";
-  s += "accelerometer_noise_density: " + num(imu.accel_noise_density) + "  # [ m / s^2 / sqrt(Hz) ]\n";
-  s += "accelerometer_random_walk: " + num(imu.accel_random_walk) + "  # [ m / s^3 / sqrt(Hz) ]\n";
+  s += "gyroscope_noise_density: " + shortestText(imu.gyro_noise_density) + "  # [ rad / s / sqrt(Hz) ]\n";
+  s += "gyroscope_random_walk: " + shortestText(imu.gyro_random_walk) + "  # [ rad / s^2 / sqrt(Hz) ]\n";
+  s += "accelerometer_noise_density: " + shortestText(imu.accel_noise_density) + "  # [ m / s^2 / sqrt(Hz) ]\n";
+  s += "accelerometer_random_walk: " + shortestText(imu.accel_random_walk) + "  # [ m / s^3 / sqrt(Hz) ]\n";
   return s;
 }
 

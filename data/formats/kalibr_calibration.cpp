@@ -21,7 +21,7 @@ Eigen::Matrix4d readMatrix4(YamlOptionsReader& r, const std::string& key) {
   return m;
 }
 
-Eigen::Isometry3d readTransform(YamlOptionsReader& r, const std::string& key) {
+Eigen::Isometry3d readKalibrTransform(YamlOptionsReader& r, const std::string& key) {
   return rigidTransform(r, key, readMatrix4(r, key), kForeignRigidTolerance);
 }
 
@@ -122,10 +122,10 @@ RigCamera readKalibrCameraMap(YamlOptionsReader& r) {
   r.check(!(r.has("T_cam_imu") && r.has("T_imu_cam")), "T_imu_cam",
           "both T_cam_imu and T_imu_cam are given: keep one");
   if (r.has("T_cam_imu")) {
-    cam.T_B_C = readTransform(r, "T_cam_imu").inverse();
+    cam.T_B_C = readKalibrTransform(r, "T_cam_imu").inverse();
     out.has_T_imu_cam = true;
   } else if (r.has("T_imu_cam")) {  // OpenVINS: camera -> IMU
-    cam.T_B_C = readTransform(r, "T_imu_cam");
+    cam.T_B_C = readKalibrTransform(r, "T_imu_cam");
     out.has_T_imu_cam = true;
   }
   r.optional("timeshift_cam_imu", out.time_offset_s, -1.0, 1.0);
@@ -144,7 +144,7 @@ RigImu readKalibrImuMap(YamlOptionsReader& r, std::vector<std::string>* nested_u
   r.required("gyroscope_random_walk", n.gyro_random_walk, 1e-12, 1e3);
   r.optional("update_rate", n.rate_hz, 1.0, 1e5);
   r.optional("rostopic", out.rostopic);
-  if (r.has("T_i_b")) n.T_B_I = readTransform(r, "T_i_b").inverse();
+  if (r.has("T_i_b")) n.T_B_I = readKalibrTransform(r, "T_i_b").inverse();
 
   // Intrinsics: OpenVINS' flat keys, or Kalibr's result blocks (the same matrices).
   std::string model = "calibrated";
@@ -188,7 +188,7 @@ void readKalibrCamchain(YamlOptionsReader root, RigCalibration& rig) {
     RigCamera cam = readKalibrCameraMap(r);
     // A camchain without the IMU chains its cameras: T_cn_cnm1 maps cam(n-1) points into cam n.
     if (r.has("T_cn_cnm1")) {
-      const Eigen::Isometry3d T_cn_cnm1 = readTransform(r, "T_cn_cnm1");
+      const Eigen::Isometry3d T_cn_cnm1 = readKalibrTransform(r, "T_cn_cnm1");
       if (!cam.has_T_imu_cam && rig.cameras.size() > first && rig.cameras.back().has_T_imu_cam) {
         cam.camera.T_B_C = rig.cameras.back().camera.T_B_C * T_cn_cnm1.inverse();
         cam.has_T_imu_cam = true;

@@ -19,7 +19,7 @@ namespace adugs::test {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kSourceDir = ADUGS_SOURCE_DIR;
+using test::kSourceDir;
 
 // Complete pose rows of a trajectory being written: the header comment and a row still being
 // written (no newline yet) do not count.

@@ -15,7 +15,7 @@
 namespace adugs::test {
 namespace {
 
-const std::string kSourceDir = ADUGS_SOURCE_DIR;
+using test::kSourceDir;
 
 // The number right after `key` in a summary; NaN when the key is missing.
 double yamlNumberAfter(const std::string& text, const std::string& key) {

@@ -16,6 +16,7 @@
 #include "data/camera_model.h"
 #include "data/input_error.h"
 #include "data/sim/sim_camera.h"
+#include "tests/test_support.h"
 
 namespace adugs::data {
 namespace {
@@ -53,11 +54,7 @@ std::string nameOf(const CameraModel& cam) {
   return kalibrName(modelOf(cam)) + " " + std::to_string(cam.width());
 }
 
-// [fu fv pu pv d0..d3], the templates' parameter block.
-std::array<double, 8> paramsOf(const CameraModel& cam) {
-  const auto& k = cam.coeffs();
-  return {cam.fx(), cam.fy(), cam.cx(), cam.cy(), k[0], k[1], k[2], k[3]};
-}
+using test::paramsOf;
 
 TEST(CameraModel, RadtanHandWorkedValue) {
   // xn = (0.1, -0.2): r2 = 0.05, radial = 1 + k1 r2 + k2 r2^2 = 0.986014492175

@@ -19,6 +19,7 @@
 #include "data/camera_model.h"
 #include "data/formats/euroc_sensor_yaml.h"
 #include "data/sim/sim_camera.h"
+#include "tests/test_support.h"
 
 namespace adugs::data {
 namespace {
@@ -77,10 +78,7 @@ std::vector<Eigen::Vector2d> pixelGrid(const CameraModel& cam, int step) {
   return px;
 }
 
-std::array<double, 8> paramsOf(const CameraModel& cam) {
-  const auto& k = cam.coeffs();
-  return {cam.fx(), cam.fy(), cam.cx(), cam.cy(), k[0], k[1], k[2], k[3]};
-}
+using test::paramsOf;
 
 std::string what(const std::function<void()>& f) {
   try {

@@ -22,10 +22,7 @@ namespace adugs::data {
 namespace {
 namespace fs = std::filesystem;
 
-bool samePixels(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  return cv::norm(a, b, cv::NORM_INF) == 0;
-}
+using test::samePixels;
 
 // Writes a CV_8UC1/CV_16UC1/CV_8UC3 image with libpng, every row with `filter` (a PNG_FILTER_*
 // mask), at zlib `level`, interlaced or not.

@@ -25,10 +25,7 @@ using test::TempDir;
 
 const fs::path kOpenCvSamples = "/usr/share/doc/opencv-doc/examples/data";
 
-bool samePixels(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  return a.empty() || cv::norm(a, b, cv::NORM_INF) == 0;
-}
+using test::samePixels;
 
 std::string describe(const cv::Mat& m) {
   return std::to_string(m.cols) + "x" + std::to_string(m.rows) + " type " + std::to_string(m.type());

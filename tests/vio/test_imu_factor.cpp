@@ -19,7 +19,7 @@
 namespace adugs::vio {
 namespace {
 
-constexpr int64_t kT0 = 1403715273262142976;
+constexpr int64_t kEurocEpochNs = 1403715273262142976;
 
 struct Scenario {
   std::shared_ptr<ImuPreintegration> pre;
@@ -36,9 +36,9 @@ Scenario makeScenario() {
   ch[data::SineTrajectory::kYaw] = {0.3, 0.2, {{0.8, 0.5, 0.0}}};
   ch[data::SineTrajectory::kPitch] = {0.0, 0.0, {{0.15, 1.3, 0.3}}};
   ch[data::SineTrajectory::kRoll] = {0.05, 0.0, {{0.12, 1.9, 1.1}}};
-  const data::SineTrajectory traj(kT0, kT0 + data::secToNs(2.0), ch);
+  const data::SineTrajectory traj(kEurocEpochNs, kEurocEpochNs + data::secToNs(2.0), ch);
   const Eigen::Vector3d ba(0.1, -0.05, 0.08), bg(0.01, -0.02, 0.015);
-  const int64_t ti = kT0 + data::secToNs(0.4), tj = ti + data::secToNs(0.5);
+  const int64_t ti = kEurocEpochNs + data::secToNs(0.4), tj = ti + data::secToNs(0.5);
   Scenario s;
   for (int64_t t = ti; t <= tj; t += 5'000'000) {
     data::ImuSample m = data::idealImu(traj.stateAt(t));

@@ -17,7 +17,7 @@
 namespace adugs::vio {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using ::adugs::test::kDeg;
 constexpr int64_t kT0 = 1403715273262142976;
 
 // Angle between the world z axis seen from two body orientations: the roll/pitch difference.

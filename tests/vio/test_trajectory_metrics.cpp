@@ -6,6 +6,7 @@
 
 #include "vio/eval/trajectory_eval.h"
 #include "vio/eval/trajectory_metrics.h"
+#include "tests/test_support.h"
 
 namespace adugs::vio {
 namespace {
@@ -13,7 +14,7 @@ namespace {
 using data::StampedPose;
 using data::Trajectory;
 
-constexpr double kDeg = EIGEN_PI / 180.0;
+using ::adugs::test::kDeg;
 
 // Straight line along x: `n` poses `step_m` apart, 10 Hz, identity orientation.
 Trajectory straightLine(int n, double step_m) {

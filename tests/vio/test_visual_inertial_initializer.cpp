@@ -9,11 +9,12 @@
 
 #include "init_test_scene.h"
 #include "vio/init/visual_inertial_initializer.h"
+#include "tests/test_support.h"
 
 namespace adugs::vio {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using ::adugs::test::kDeg;
 
 double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));

@@ -16,7 +16,7 @@
 namespace adugs::vio {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using ::adugs::test::kDeg;
 
 std::filesystem::path microDir() { return adugs::test::sharedDataDir() / "euroc_v101_micro"; }
 

@@ -9,11 +9,12 @@
 #include "vio/init/sfm_bundle_adjustment.h"
 #include "vio/init/sfm_geometry.h"
 #include "vio/init/visual_sfm.h"
+#include "tests/test_support.h"
 
 namespace adugs::vio {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using ::adugs::test::kDeg;
 
 TEST(SfmGeometry, TriangulatesAHandWorkedPoint) {
   // Two identity-oriented cameras 1 m apart along x; the point (0.5, 0.2, 4) projects to

@@ -4,14 +4,10 @@
 #include <stdexcept>
 
 namespace adugs::vio {
-namespace {
-constexpr int kMaxRows = 15, kMaxTangent = 9, kMaxBlocks = 6;
-}
-
 TangentCostFunction::TangentCostFunction(int num_residuals, const std::vector<int>& block_sizes) {
-  if (num_residuals > kMaxRows || block_sizes.size() > static_cast<size_t>(kMaxBlocks) ||
+  if (num_residuals > kMaxResiduals || block_sizes.size() > static_cast<size_t>(kMaxBlocks) ||
       std::any_of(block_sizes.begin(), block_sizes.end(),
-                  [](int s) { return s != kPoseSize && s > kMaxTangent; }))
+                  [](int s) { return s != kPoseSize && s > kMaxTangentSize; }))
     throw std::invalid_argument("TangentCostFunction: residual or block too large");
   set_num_residuals(num_residuals);
   *mutable_parameter_block_sizes() = block_sizes;
@@ -27,7 +23,7 @@ bool TangentCostFunction::Evaluate(double const* const* parameters, double* resi
   if (!jacobians) return EvaluateTangent(parameters, residuals, nullptr);
   const int rows = num_residuals();
   const int n = static_cast<int>(parameter_block_sizes().size());
-  double tangent[kMaxBlocks][kMaxRows * kMaxTangent];
+  double tangent[kMaxBlocks][kMaxResiduals * kMaxTangentSize];
   double* tangent_ptrs[kMaxBlocks];
   for (int k = 0; k < n; ++k) tangent_ptrs[k] = jacobians[k] ? tangent[k] : nullptr;
   if (!EvaluateTangent(parameters, residuals, tangent_ptrs)) return false;

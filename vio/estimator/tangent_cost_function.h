@@ -24,6 +24,11 @@ class TangentCostFunction : public ceres::CostFunction {
   // Blocks of 7 values are poses (tangent 6); others are Euclidean.
   int tangentSize(int block) const;
 
+  // The largest residual and Euclidean block a factor may have (the IMU factor's 15 rows and
+  // 9-value speed-bias blocks) and the most blocks: the fixed-capacity storage of Evaluate and of
+  // the window solver, free of heap allocations per residual.
+  static constexpr int kMaxResiduals = 15, kMaxTangentSize = 9, kMaxBlocks = 6;
+
  protected:
   TangentCostFunction(int num_residuals, const std::vector<int>& block_sizes);
 };

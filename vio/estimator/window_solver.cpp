@@ -14,7 +14,7 @@ namespace {
 
 // Largest residual and block this solver linearises (the IMU factor: 15 x 9); fixed-capacity
 // Eigen storage keeps the per-residual work free of heap allocations.
-constexpr int kMaxRows = 15, kMaxCols = 9;
+constexpr int kMaxRows = TangentCostFunction::kMaxResiduals, kMaxCols = TangentCostFunction::kMaxTangentSize;
 
 double clampDiagonal(double d) { return std::clamp(d, 1e-6, 1e32); }  // Ceres' LM bounds
 

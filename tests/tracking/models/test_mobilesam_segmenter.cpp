@@ -170,16 +170,7 @@ TEST(MobileSamSegmenter, GreyImagesAreAccepted) {
   EXPECT_EQ(mask.at<uchar>(350, 250), 0);
 }
 
-// Expects data::InputError whose message contains every given fragment.
-void expectInputError(const std::function<void()>& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    ADD_FAILURE() << "no data::InputError thrown";
-  } catch (const data::InputError& e) {
-    for (const std::string& s : fragments)
-      EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << e.what() << "\nlacks: " << s;
-  }
-}
+using test::expectInputError;
 
 TEST(MobileSamSegmenter, BadModelFilesGiveErrorsNamingTheFile) {
   REQUIRE_MODELS();

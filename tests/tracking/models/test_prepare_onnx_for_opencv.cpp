@@ -26,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kHeight = 128, kWidth = 160;
+constexpr int kInputHeight = 128, kInputWidth = 160;
 constexpr int kRows = 4 + 3;                        // box + person, car, chair
 constexpr int kAnchors = 16 * 20 + 8 * 10 + 4 * 5;  // strides 8, 16, 32
 const std::vector<std::string> kExports = {"export_opset12.onnx", "export_opset13.onnx"};
@@ -70,7 +70,7 @@ ScriptResult prepareOnnx(const fs::path& in, const fs::path& out, const test::Te
   return r;
 }
 
-void expectInputError(const std::string& path, const std::vector<std::string>& fragments) {
+void expectModelRefused(const std::string& path, const std::vector<std::string>& fragments) {
   try {
     makeDetector(path);
     ADD_FAILURE() << "no data::InputError thrown for " << path;
@@ -87,13 +87,13 @@ TEST(PrepareOnnxForOpencv, UnpreparedExportsAreRejectedWithTheHint) {
   for (const std::string& name : kExports) {
     SCOPED_TRACE(name);
     const std::string path = (exports / name).string();
-    expectInputError(path, {path, "Identity", "scripts/prepare_onnx_for_opencv.py"});
+    expectModelRefused(path, {path, "Identity", "scripts/prepare_onnx_for_opencv.py"});
   }
 }
 
 TEST(PrepareOnnxForOpencv, PreparedExportsMatchTorchScript) {
   REQUIRE_EXPORTS();
-  const cv::Mat input = readBlob(exports / "input.f32", {1, 3, kHeight, kWidth});
+  const cv::Mat input = readBlob(exports / "input.f32", {1, 3, kInputHeight, kInputWidth});
   const cv::Mat reference = readBlob(exports / "output.f32", {1, kRows, kAnchors});
   // The comparison means something only if the model's scores are not near-constant.
   const cv::Mat ref_rows(kRows, kAnchors, CV_32F, const_cast<float*>(reference.ptr<float>()));
@@ -124,7 +124,7 @@ TEST(PrepareOnnxForOpencv, PreparedExportsMatchTorchScript) {
     const std::unique_ptr<Detector> detector = makeDetector(prepared.string());
     const auto* onnx = dynamic_cast<const UltralyticsOnnxDetector*>(detector.get());
     ASSERT_NE(onnx, nullptr);
-    EXPECT_EQ(onnx->info().input_size, cv::Size(kWidth, kHeight));
+    EXPECT_EQ(onnx->info().input_size, cv::Size(kInputWidth, kInputHeight));
     EXPECT_EQ(onnx->info().names, (std::vector<std::string>{"person", "car", "chair"}));
   }
 }

@@ -29,15 +29,7 @@ const fs::path& ultralyticsLikeModels() { return test::pythonGenerated("tests/tr
   const fs::path models = ultralyticsLikeModels(); \
   if (models.empty()) FAIL() << "no models"
 
-void expectInputError(const std::function<void()>& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    ADD_FAILURE() << "no data::InputError thrown";
-  } catch (const data::InputError& e) {
-    for (const std::string& s : fragments)
-      EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << e.what() << "\nlacks: " << s;
-  }
-}
+using test::expectInputError;
 
 void expectBox(const Box& b, double cx, double cy, double w, double h) {
   EXPECT_NEAR(b.cx, cx, 1e-3);
