@@ -22,6 +22,12 @@ CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DADUGS_SANITIZE=ON -DADUGS_FUZZ=ON -DCMAKE_UNITY_BUILD=ON \
   -DADUGS_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 cmake --build build-asan -j"${ADUGS_JOBS:-2}"
+# One OpenMP thread: this clang build loads two OpenMP runtimes (clang's libomp for our code,
+# gcc's libgomp through Ceres and ViSP), and with both, Eigen's parallel products came out wrong
+# (2026-12-02: the marginalisation's eigenvectors far from orthonormal, J^T J = 2 H in
+# WindowSolver.InformationFormPriorEqualsTheResidualForm; right with one thread and in the gcc
+# Release build, which has libgomp only).
+export OMP_NUM_THREADS=1
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # Leaks inside third-party libraries (OpenCV's and ViSP's static singletons) are not ours.
