@@ -17,11 +17,14 @@
 # then per effect the geometric mean of the ratios. Finished runs are kept and skipped on a rerun.
 #
 # Usage: scripts/bench_realism.sh [--flights "0:40:1 0:40:2 0:80:1"] [--effects "clean distortion ..."]
-#          [--out DIR] [--adugs BIN]
+#          [--out DIR] [--adugs BIN] [--label L] [--adugs-options "--config C.yaml ..."]
+# --adugs-options are passed to `adugs run`; with --label L its results go to DIR/compare_L, so an
+# estimator option is measured on the same rendered sequences (rendered once per DIR).
 # Needs OpenVINS built (../shared/tools/openvins/README.md) and ../shared/data.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 adugs="$root/build/app/adugs"
+adugs_options="" label=""
 out=/tmp/adugs_bench_realism
 flights="0:40:1 0:40:2 0:80:1"
 effects="clean distortion blur noise exposure vignetting all"
@@ -31,6 +34,8 @@ while [ $# -gt 0 ]; do
     --effects) effects="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     --adugs) adugs="$2"; shift 2 ;;
+    --adugs-options) adugs_options="$2"; shift 2 ;;
+    --label) label="$2"; shift 2 ;;
     *) echo "bench_realism: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -79,26 +84,29 @@ for flight in $flights; do
   seed="${seed:-1}" name="${start}_${length}_s${seed}"
   input="$(cut_flight "$start")"
   for effect in $effects; do
-    seq="$out/seq/${name}_$effect" result="$out/compare/${name}_$effect"
+    seq="$out/seq/${name}_$effect" result="$out/compare${label:+_$label}/${name}_$effect"
     [ -f "$result/compare.json" ] && continue
     calib="$undistorted" undistorted_flag="--undistorted"
     case "$effect" in distortion|all) calib="$euroc/mav0/cam0/sensor.yaml" undistorted_flag="" ;; esac
     echo "bench_realism: flight ${start}+${length} s seed $seed, $effect" >&2
-    rm -rf "$seq"
-    # shellcheck disable=SC2046
-    "$adugs" sim --trajectory "$input/trajectory.csv" --imu "$input/imu.csv" --calib "$calib" \
-      --imu-calib "$out/input/imu_sensor.yaml" --duration "$length" --seed "$seed" --level none \
-      $(effect_options "$effect") --out "$seq" > "$out/sim_${name}_$effect.log" 2>&1
+    if [ ! -f "$seq/rendered" ]; then
+      rm -rf "$seq"
+      # shellcheck disable=SC2046
+      "$adugs" sim --trajectory "$input/trajectory.csv" --imu "$input/imu.csv" --calib "$calib" \
+        --imu-calib "$out/input/imu_sensor.yaml" --duration "$length" --seed "$seed" --level none \
+        $(effect_options "$effect") --out "$seq" > "$out/sim_${name}_$effect.log" 2>&1
+      touch "$seq/rendered"
+    fi
     mkdir -p "$(dirname "$result")"
     # shellcheck disable=SC2086
-    OUT="$result" bash "$compare" "$seq" "$adugs" $undistorted_flag > "$result.log" 2>&1 ||
+    OUT="$result" bash "$compare" "$seq" "$adugs" $undistorted_flag -- $adugs_options > "$result.log" 2>&1 ||
       { echo "bench_realism: compare failed, see $result.log" >&2; continue; }
   done
 done
 
-/usr/bin/python3 - "$out" "$flights" "$effects" <<'EOF'
+/usr/bin/python3 - "$out" "$flights" "$effects" "$label" <<'EOF'
 import json, math, os, sys
-out, flights, effects = sys.argv[1], sys.argv[2].split(), sys.argv[3].split()
+out, flights, effects, run_label = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), sys.argv[4]
 print("| flight | effect | OpenVINS ATE | adugs ATE | adugs / OpenVINS | CPU adugs / OpenVINS |")
 print("|---|---|---|---|---|---|")
 ratios = {e: [] for e in effects}
@@ -106,7 +114,7 @@ for f in flights:
     start, length, seed = (f.split(":") + ["1"])[:3]
     label = f"{start}+{length} s, seed {seed}"
     for e in effects:
-        p = os.path.join(out, "compare", f"{start}_{length}_s{seed}_{e}", "compare.json")
+        p = os.path.join(out, "compare_" + run_label if run_label else "compare", f"{start}_{length}_s{seed}_{e}", "compare.json")
         if not os.path.exists(p):
             print(f"| {label} | {e} | - | - | (no result) | |")
             continue
