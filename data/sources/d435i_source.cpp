@@ -439,10 +439,10 @@ void D435iSource::onImu(IioSensor& sensor, bool accel) {
                          : name == "monotonic_raw" ? CLOCK_MONOTONIC_RAW
                          : name == "boottime" ? CLOCK_BOOTTIME
                                               : CLOCK_REALTIME;
-    const int64_t host = hostClockNs(id);
-    if (std::llabs(samples.front().timestamp_ns - host) < 10'000'000'000) {
+    const int64_t host_minus_monotonic = clockMinusMonotonicNs(id);
+    if (std::llabs(samples.front().timestamp_ns - (now + host_minus_monotonic)) < 10'000'000'000) {
       imu_stamp_kind_ = 2;
-      imu_host_offset_ns_ = host - now;  // that clock minus CLOCK_MONOTONIC
+      imu_host_offset_ns_ = host_minus_monotonic;
       std::cerr << "warning: d435i: the IIO records carry host stamps (" << name
                 << "), not the camera's (a kernel whose hid-sensor drivers ignore the HID timestamp): IMU and frames "
                    "are on different clocks; keep estimator.estimate_time_offset on\n";

@@ -29,7 +29,7 @@ class VispRealSense2Source : public data::SequenceSource {
   VispRealSense2Source(const D435iOptions& options, int64_t image_time_shift_ns)
       : options_(options), image_time_shift_ns_(image_time_shift_ns) {
     // librealsense stamps in the global time domain: the host's system clock (realtime), in ms.
-    realtime_minus_monotonic_ns_ = hostClockNs(CLOCK_REALTIME) - monotonicNs();
+    realtime_minus_monotonic_ns_ = clockMinusMonotonicNs(CLOCK_REALTIME);
     rs2::config config;
     if (!options.serial.empty()) config.enable_device(options.serial);
     if (options.stream == "infrared")

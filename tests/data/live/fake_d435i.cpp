@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "data/device/host_clock.h"
 #include "tests/device_bytes.h"
 #include "tests/test_support.h"
 
@@ -234,7 +235,7 @@ void FakeD435i::run() {
     if (accel_fd < 0 || gyro_fd < 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   const int64_t t0 = config_.device_start_us;
-  const int64_t realtime_offset = nowNs(CLOCK_REALTIME) - nowNs(CLOCK_MONOTONIC);
+  const int64_t realtime_offset = data::clockMinusMonotonicNs(CLOCK_REALTIME);
   int64_t k = 0, j = 0, f = 0;
   const auto imuStamp = [&](int64_t device_us) {
     if (config_.imu_device_stamps) return (device_us & 0xFFFFFFFFLL) * 1000;  // the kernel's ns of the us counter
