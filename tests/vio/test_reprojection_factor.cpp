@@ -1,6 +1,7 @@
 // Inverse-depth reprojection factors: zero at truth, analytic vs numeric Jacobians (pose_i,
 // pose_j, extrinsic, inverse depth, time offset), and a small inverse-depth solve.
 #include "vio/estimator/reprojection_factor.h"
+#include "vio/estimator/reprojection_factor_pool.h"
 
 #include <array>
 #include <random>
@@ -188,6 +189,53 @@ TEST(ReprojectionFactor, SolveRecoversInverseDepthsWithPosesFixed) {
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.FullReport();
   for (size_t k = 0; k < features.size(); ++k)
     EXPECT_NEAR(lambdas[k], features[k].lambda, 1e-6 * features[k].lambda) << k;
+}
+
+// A factor the pool hands out again carries only the new observation, with and without the time
+// offset: zero residual at the new observation's truth (a field left from the factor's previous
+// use would move it), and residual and Jacobians equal to a newly made factor's.
+TEST(ReprojectionFactorPool, AReusedFactorEvaluatesAsANewOne) {
+  const Rig s = makeRig();
+  const Feature first = makeFeature(s, {0.1, -0.05}, 4.0), second = makeFeature(s, {-0.2, 0.15}, 7.0);
+  double lambda = second.lambda, td = 0.004;  // the second observation's truth
+  double* params[] = {const_cast<double*>(s.pose_i.data()), const_cast<double*>(s.pose_j.data()),
+                      const_cast<double*>(s.T_B_C.data()), &lambda, &td};
+  auto evaluate = [&](const ceres::CostFunction& f) {
+    const size_t n = f.parameter_block_sizes().size();
+    std::vector<double> out(2);
+    std::vector<std::vector<double>> J(n);
+    std::vector<double*> J_ptrs;
+    for (size_t k = 0; k < n; ++k) {
+      J[k].resize(static_cast<size_t>(2 * f.parameter_block_sizes()[k]));
+      J_ptrs.push_back(J[k].data());
+    }
+    EXPECT_TRUE(f.Evaluate(params, out.data(), J_ptrs.data()));
+    for (const auto& j : J) out.insert(out.end(), j.begin(), j.end());
+    return out;
+  };
+
+  ReprojectionFactorPool pool;
+  const ReprojectionFactor* a = pool.plain(first.pt_i, first.pt_j, kSqrtInfo);
+  const ReprojectionTdFactor* a_td =
+      pool.withTimeOffset(first.pt_i, first.pt_j, {0.3, -0.1}, {0.2, 0.4}, 0.002, -0.003, kSqrtInfo);
+  EXPECT_NE(pool.plain(first.pt_i, first.pt_j, kSqrtInfo), a);  // still in use: a second factor
+  pool.reuseAll();
+  const ReprojectionFactor* b = pool.plain(second.pt_i, second.pt_j, 2.0 * kSqrtInfo);
+  const ReprojectionTdFactor* b_td = pool.withTimeOffset(second.pt_i, second.pt_j, {-0.1, 0.2},
+                                                         {0.5, -0.3}, 0.004, 0.004, 2.0 * kSqrtInfo);
+  EXPECT_EQ(b, a);  // the same objects, reused
+  EXPECT_EQ(b_td, a_td);
+  for (const ceres::CostFunction* f : {static_cast<const ceres::CostFunction*>(b),
+                                       static_cast<const ceres::CostFunction*>(b_td)}) {
+    Eigen::Vector2d r;
+    ASSERT_TRUE(f->Evaluate(params, r.data(), nullptr));
+    EXPECT_LT(r.norm(), 1e-9);
+  }
+  lambda *= 1.2, td = 0.01;  // away from truth: the Jacobians and residual of a new factor
+  EXPECT_EQ(evaluate(*b), evaluate(ReprojectionFactor(second.pt_i, second.pt_j, 2.0 * kSqrtInfo)));
+  EXPECT_EQ(evaluate(*b_td), evaluate(ReprojectionTdFactor(second.pt_i, second.pt_j, {-0.1, 0.2},
+                                                           {0.5, -0.3}, 0.004, 0.004,
+                                                           2.0 * kSqrtInfo)));
 }
 
 }  // namespace

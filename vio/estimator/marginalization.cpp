@@ -19,12 +19,18 @@ namespace {
 
 int tangentSizeOf(const ceres::Manifold* m, int size) { return m ? m->TangentSize() : size; }
 
-// Ambient Jacobian (rows x size) -> tangent Jacobian (rows x tangent).
-Eigen::MatrixXd toTangent(const RowMajorMatrix& J, const ceres::Manifold* m, const double* x) {
-  if (!m) return J;
-  RowMajorMatrix plus(m->AmbientSize(), m->TangentSize());
-  if (!m->PlusJacobian(x, plus.data())) throw std::invalid_argument("PlusJacobian failed");
-  return J.lazyProduct(plus);  // a few rows: Eigen's GEMM dispatch would cost more than the sums
+// Ambient Jacobian (rows x size) -> tangent Jacobian (rows x tangent), into buffers reused from
+// one residual to the next (`plus`: scratch for the manifold's PlusJacobian).
+void toTangent(const RowMajorMatrix& J, const ceres::Manifold* m, const double* x,
+               RowMajorMatrix* plus, Eigen::MatrixXd* tangent) {
+  if (!m) {
+    *tangent = J;
+    return;
+  }
+  plus->resize(m->AmbientSize(), m->TangentSize());
+  if (!m->PlusJacobian(x, plus->data())) throw std::invalid_argument("PlusJacobian failed");
+  // A few rows: Eigen's GEMM dispatch would cost more than the sums.
+  tangent->noalias() = J.lazyProduct(*plus);
 }
 
 // The rotation block of a pose's Minus Jacobian: Minus = [p - p0, Log(q0^-1 q)], and q -> q Exp(d)
@@ -62,10 +68,12 @@ const ceres::Manifold* Marginalizer::manifoldOf(const double* block) const {
 }
 
 void Marginalizer::addResidualBlock(const ceres::CostFunction* cost,
-                                    const ceres::LossFunction* loss, std::vector<double*> blocks) {
+                                    const ceres::LossFunction* loss,
+                                    const std::vector<double*>& blocks) {
   if (!cost || blocks.size() != cost->parameter_block_sizes().size())
     throw std::invalid_argument("Marginalizer: cost function and blocks do not match");
-  residuals_.push_back({cost, loss, std::move(blocks)});
+  residuals_.push_back({cost, loss, block_storage_.size()});
+  block_storage_.insert(block_storage_.end(), blocks.begin(), blocks.end());
 }
 
 std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
@@ -82,12 +90,14 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   const std::unordered_set<const double*> is_constant(constant_.begin(), constant_.end());
   std::vector<const Residual*> used;
   for (const Residual& res : residuals_) {
-    if (std::none_of(res.blocks.begin(), res.blocks.end(),
+    double* const* res_blocks = blocksOf(res);
+    const size_t n_blocks = res.cost->parameter_block_sizes().size();
+    if (std::none_of(res_blocks, res_blocks + n_blocks,
                      [&](const double* b) { return is_marginalized.count(b) > 0; }))
       continue;
     used.push_back(&res);
-    for (size_t k = 0; k < res.blocks.size(); ++k) {
-      double* b = res.blocks[k];
+    for (size_t k = 0; k < n_blocks; ++k) {
+      double* b = res_blocks[k];
       if (where.count(b) || is_constant.count(b)) continue;
       const bool m = is_marginalized.count(b) > 0;
       auto& list = m ? marg : kept;
@@ -121,12 +131,16 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   // take no part (null Jacobian pointers: the cost skips them).
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_total, n_total);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(n_total);
+  // Buffers reused across residuals (their sizes change only between kinds of residual).
   Eigen::VectorXd r;
+  Eigen::RowVectorXd rtJ;
+  RowMajorMatrix plus;
   std::vector<RowMajorMatrix> J_amb;
   std::vector<Eigen::MatrixXd> J;
   std::vector<double*> jac_ptrs;
   std::vector<const Block*> blocks;
   for (const Residual* res : used) {
+    double* const* res_blocks = blocksOf(*res);
     const int n_res = res->cost->num_residuals();
     const std::vector<int32_t>& sizes = res->cost->parameter_block_sizes();
     const size_t n_blocks = sizes.size();
@@ -136,21 +150,29 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     jac_ptrs.assign(n_blocks, nullptr);
     blocks.assign(n_blocks, nullptr);
     for (size_t k = 0; k < n_blocks; ++k) {
-      const auto it = where.find(res->blocks[k]);
+      const auto it = where.find(res_blocks[k]);
       if (it == where.end()) continue;  // constant
       blocks[k] = it->second.first ? &marg[it->second.second] : &kept[it->second.second];
       J_amb[k].resize(n_res, sizes[k]);
       jac_ptrs[k] = J_amb[k].data();
     }
-    if (!res->cost->Evaluate(res->blocks.data(), r.data(), jac_ptrs.data()))
+    if (!res->cost->Evaluate(res_blocks, r.data(), jac_ptrs.data()))
       throw std::invalid_argument("Marginalizer: a cost function failed to evaluate");
     for (size_t k = 0; k < n_blocks; ++k)
-      if (blocks[k]) J[k] = toTangent(J_amb[k], blocks[k]->manifold, res->blocks[k]);
+      if (blocks[k]) toTangent(J_amb[k], blocks[k]->manifold, res_blocks[k], &plus, &J[k]);
 
     if (res->loss) {
+      // J <- sqrt(rho') (J - alpha r r^T J / |r|^2), coefficient by coefficient: as one Eigen
+      // expression its outer product went through a heap temporary per block.
       const RobustCorrection c = robustCorrection(res->loss, r.squaredNorm());
-      for (size_t k = 0; k < n_blocks; ++k)
-        if (blocks[k]) J[k] = c.sqrt_rho1 * (J[k] - c.alpha_sq_norm * r * (r.transpose() * J[k]));
+      for (size_t k = 0; k < n_blocks; ++k) {
+        if (!blocks[k]) continue;
+        Eigen::MatrixXd& Jk = J[k];
+        rtJ.noalias() = r.transpose() * Jk;
+        for (Eigen::Index j = 0; j < Jk.cols(); ++j)
+          for (Eigen::Index i = 0; i < Jk.rows(); ++i)
+            Jk(i, j) = c.sqrt_rho1 * (Jk(i, j) - (c.alpha_sq_norm * r(i)) * rtJ(j));
+      }
       r *= c.residual_scaling;
     }
     for (size_t a = 0; a < n_blocks; ++a) {

@@ -61,7 +61,7 @@ class Marginalizer {
   void setConstant(const double* block) { constant_.push_back(block); }
   // Cost and loss (loss may be null) are not owned and must stay alive until marginalize().
   void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                        std::vector<double*> blocks);
+                        const std::vector<double*>& blocks);
   // The previous prior, linearised in its information form (not as a dense residual). Like a
   // residual block, it takes part only if it touches a marginalised block.
   void addPrior(std::shared_ptr<const MarginalizationPrior> prior) { prior_ = std::move(prior); }
@@ -74,9 +74,13 @@ class Marginalizer {
   struct Residual {
     const ceres::CostFunction* cost;
     const ceres::LossFunction* loss;
-    std::vector<double*> blocks;
+    size_t first_block;  // its blocks: block_storage_[first_block ...], as many as the cost has
   };
   std::vector<Residual> residuals_;
+  // Every residual's blocks in one array: a vector per residual was an allocation each, for
+  // thousands of residuals per keyframe.
+  std::vector<double*> block_storage_;
+  double* const* blocksOf(const Residual& r) const { return block_storage_.data() + r.first_block; }
   std::vector<std::pair<const double*, const ceres::Manifold*>> manifolds_;
   std::vector<const double*> constant_;
   std::shared_ptr<const MarginalizationPrior> prior_;

@@ -69,8 +69,16 @@ void evaluateTwoFrame(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j, 
 
 ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                                        double sqrt_information)
-    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1}),
-      pt_i_(pt_i), pt_j_(pt_j), sqrt_information_(sqrt_information) {}
+    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1}) {
+  setMeasurement(pt_i, pt_j, sqrt_information);
+}
+
+void ReprojectionFactor::setMeasurement(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
+                                        double sqrt_information) {
+  pt_i_ = pt_i;
+  pt_j_ = pt_j;
+  sqrt_information_ = sqrt_information;
+}
 
 bool ReprojectionFactor::EvaluateTangent(double const* const* parameters, double* residuals,
                                          double** jacobians) const {
@@ -82,14 +90,22 @@ ReprojectionTdFactor::ReprojectionTdFactor(const Eigen::Vector2d& pt_i, const Ei
                                            const Eigen::Vector2d& vel_i,
                                            const Eigen::Vector2d& vel_j, double td_i, double td_j,
                                            double sqrt_information)
-    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1, 1}),
-      pt_i_(pt_i),
-      pt_j_(pt_j),
-      vel_i_(vel_i),
-      vel_j_(vel_j),
-      td_i_(td_i),
-      td_j_(td_j),
-      sqrt_information_(sqrt_information) {}
+    : TangentCostFunction(2, {kPoseSize, kPoseSize, kPoseSize, 1, 1}) {
+  setMeasurement(pt_i, pt_j, vel_i, vel_j, td_i, td_j, sqrt_information);
+}
+
+void ReprojectionTdFactor::setMeasurement(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
+                                          const Eigen::Vector2d& vel_i,
+                                          const Eigen::Vector2d& vel_j, double td_i, double td_j,
+                                          double sqrt_information) {
+  pt_i_ = pt_i;
+  pt_j_ = pt_j;
+  vel_i_ = vel_i;
+  vel_j_ = vel_j;
+  td_i_ = td_i;
+  td_j_ = td_j;
+  sqrt_information_ = sqrt_information;
+}
 
 bool ReprojectionTdFactor::EvaluateTangent(double const* const* parameters, double* residuals,
                                            double** jacobians) const {

@@ -24,6 +24,9 @@ class ReprojectionFactor : public TangentCostFunction {
  public:
   ReprojectionFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                      double sqrt_information);
+  // The same factor for another observation (ReprojectionFactorPool reuses factors).
+  void setMeasurement(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
+                      double sqrt_information);
   bool EvaluateTangent(double const* const* parameters, double* residuals,
                        double** jacobians) const override;
 
@@ -40,6 +43,9 @@ class ReprojectionTdFactor : public TangentCostFunction {
   ReprojectionTdFactor(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
                        const Eigen::Vector2d& vel_i, const Eigen::Vector2d& vel_j, double td_i,
                        double td_j, double sqrt_information);
+  void setMeasurement(const Eigen::Vector2d& pt_i, const Eigen::Vector2d& pt_j,
+                      const Eigen::Vector2d& vel_i, const Eigen::Vector2d& vel_j, double td_i,
+                      double td_j, double sqrt_information);
   bool EvaluateTangent(double const* const* parameters, double* residuals,
                        double** jacobians) const override;
 

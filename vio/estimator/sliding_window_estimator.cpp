@@ -442,14 +442,14 @@ void SlidingWindowEstimator::solve() {
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   int used = 0;
   std::vector<double*> blocks;  // reused: one allocation, not one per residual
+  reprojection_factors_.reuseAll();
   for (auto& [id, l] : landmarks_.landmarks()) {
     if (!l.has_depth || l.observations.size() < 2) continue;
     solver.addLandmark(&l.inverse_depth);
     const Observation& host = l.observations.front();
-    for (size_t k = 1; k < l.observations.size(); ++k) {
-      costs.push_back(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks));
-      solver.addResidual(costs.back().get(), &huber, blocks);
-    }
+    for (size_t k = 1; k < l.observations.size(); ++k)
+      solver.addResidual(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks), &huber,
+                         blocks);
     ++used;
   }
   stats_.landmarks_in_last_solve = used;
@@ -508,13 +508,14 @@ void SlidingWindowEstimator::rejectOutliers() {
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
   const double px_per_residual = focal_px_ / sqrt_info;
   std::vector<int64_t> outliers;
+  std::vector<double*> blocks;
+  reprojection_factors_.reuseAll();
   for (auto& [id, l] : landmarks_.landmarks()) {
     if (!l.has_depth || l.observations.size() < 3) continue;
     double sum_px = 0;
     for (size_t k = 1; k < l.observations.size(); ++k) {
-      std::vector<double*> blocks;
-      const auto cost = reprojectionCost(l.observations.front(), l.observations[k], sqrt_info, l,
-                                         &blocks);
+      const ceres::CostFunction* cost =
+          reprojectionCost(l.observations.front(), l.observations[k], sqrt_info, l, &blocks);
       Eigen::Vector2d r;
       if (!cost->Evaluate(blocks.data(), r.data(), nullptr)) r.setConstant(1e9);
       sum_px += r.norm() * px_per_residual;
@@ -649,16 +650,16 @@ void SlidingWindowEstimator::setCalibrationRoles(Marginalizer* m) const {
   if (!options_.estimate_time_offset) m->setConstant(&td_);  // else Euclidean
 }
 
-std::unique_ptr<ceres::CostFunction> SlidingWindowEstimator::reprojectionCost(
-    const Observation& host, const Observation& o, double sqrt_info, Landmark& l,
-    std::vector<double*>* blocks) {
+const ceres::CostFunction* SlidingWindowEstimator::reprojectionCost(const Observation& host,
+                                                                   const Observation& o,
+                                                                   double sqrt_info, Landmark& l,
+                                                                   std::vector<double*>* blocks) {
   *blocks = {frames_[host.frame]->pose, frames_[o.frame]->pose, T_B_C_, &l.inverse_depth};
-  if (!options_.estimate_time_offset)
-    return std::make_unique<ReprojectionFactor>(host.point, o.point, sqrt_info);
+  if (!options_.estimate_time_offset) return reprojection_factors_.plain(host.point, o.point, sqrt_info);
   blocks->push_back(&td_);
-  return std::make_unique<ReprojectionTdFactor>(host.point, o.point, host.velocity, o.velocity,
-                                                frames_[host.frame]->td, frames_[o.frame]->td,
-                                                sqrt_info);
+  return reprojection_factors_.withTimeOffset(host.point, o.point, host.velocity, o.velocity,
+                                              frames_[host.frame]->td, frames_[o.frame]->td,
+                                              sqrt_info);
 }
 
 void SlidingWindowEstimator::marginalizeOldest() {
@@ -685,14 +686,14 @@ void SlidingWindowEstimator::marginalizeOldest() {
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
   }
   const double sqrt_info = reprojectionSqrtInformation(focal_px_, options_.pixel_sigma);
+  std::vector<double*> blocks;
+  reprojection_factors_.reuseAll();
   for (auto& [id, l] : landmarks_.landmarks()) {
     if (!l.has_depth || l.observations.size() < 2 || l.hostFrame() != 0) continue;
     const Observation& host = l.observations.front();
-    for (size_t k = 1; k < l.observations.size(); ++k) {
-      std::vector<double*> blocks;
-      costs.push_back(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks));
-      m.addResidualBlock(costs.back().get(), &huber, blocks);
-    }
+    for (size_t k = 1; k < l.observations.size(); ++k)
+      m.addResidualBlock(reprojectionCost(host, l.observations[k], sqrt_info, l, &blocks), &huber,
+                         blocks);
     marginalized.push_back(&l.inverse_depth);
   }
   try {

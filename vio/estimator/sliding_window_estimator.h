@@ -30,6 +30,7 @@
 #include "vio/estimator/estimator_options.h"
 #include "vio/estimator/landmark_map.h"
 #include "vio/estimator/marginalization.h"
+#include "vio/estimator/reprojection_factor_pool.h"
 #include "vio/frontend/frame_features.h"
 #include "vio/imu/imu_preintegration.h"
 
@@ -161,10 +162,11 @@ class SlidingWindowEstimator {
   void dropFrame(int index);  // merges its IMU into the next frame's preintegration
   void thinWindow();
   // The reprojection factor of observation o of landmark l (hosted at `host`), with or without
-  // the time offset, and its parameter blocks.
-  std::unique_ptr<ceres::CostFunction> reprojectionCost(const Observation& host,
-                                                        const Observation& o, double sqrt_info,
-                                                        Landmark& l, std::vector<double*>* blocks);
+  // the time offset, and its parameter blocks. From reprojection_factors_: valid until its next
+  // reuseAll().
+  const ceres::CostFunction* reprojectionCost(const Observation& host, const Observation& o,
+                                              double sqrt_info, Landmark& l,
+                                              std::vector<double*>* blocks);
   std::vector<Eigen::Isometry3d> cameraPoses() const;
   // The features with the image velocities the time-offset factors use (see the .cpp); only
   // called when td is estimated.
@@ -187,6 +189,7 @@ class SlidingWindowEstimator {
   std::deque<data::ImuSample> imu_;  // recent samples (kept back to the oldest window frame)
   std::deque<std::unique_ptr<Frame>> frames_;
   LandmarkMap landmarks_;
+  ReprojectionFactorPool reprojection_factors_;
   std::shared_ptr<const MarginalizationPrior> prior_;
   bool initialized_ = false;
   // Camera stamp of the latest (re-)initialisation or stationary frame: td is held until the

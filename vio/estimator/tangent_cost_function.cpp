@@ -4,13 +4,13 @@
 #include <stdexcept>
 
 namespace adugs::vio {
-TangentCostFunction::TangentCostFunction(int num_residuals, const std::vector<int>& block_sizes) {
+TangentCostFunction::TangentCostFunction(int num_residuals, std::initializer_list<int> block_sizes) {
   if (num_residuals > kMaxResiduals || block_sizes.size() > static_cast<size_t>(kMaxBlocks) ||
       std::any_of(block_sizes.begin(), block_sizes.end(),
                   [](int s) { return s != kPoseSize && s > kMaxTangentSize; }))
     throw std::invalid_argument("TangentCostFunction: residual or block too large");
   set_num_residuals(num_residuals);
-  *mutable_parameter_block_sizes() = block_sizes;
+  mutable_parameter_block_sizes()->assign(block_sizes);  // one allocation: thousands per keyframe
 }
 
 int TangentCostFunction::tangentSize(int block) const {

@@ -7,7 +7,7 @@
 // EvaluateTangent directly and skips both products.
 #include <ceres/cost_function.h>
 
-#include <vector>
+#include <initializer_list>
 
 #include "vio/estimator/pose_manifold.h"
 
@@ -30,7 +30,7 @@ class TangentCostFunction : public ceres::CostFunction {
   static constexpr int kMaxResiduals = 15, kMaxTangentSize = 9, kMaxBlocks = 6;
 
  protected:
-  TangentCostFunction(int num_residuals, const std::vector<int>& block_sizes);
+  TangentCostFunction(int num_residuals, std::initializer_list<int> block_sizes);
 };
 
 }  // namespace adugs::vio

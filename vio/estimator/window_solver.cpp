@@ -174,32 +174,20 @@ void WindowSolver::prepare() {
     for (int k = 0; k < r.blocks.size(); ++k) {
       const Block& b = blocks_[r.blocks[k]];
       if (b.offset < 0) continue;
-      const auto it = std::find(l.dense_blocks.begin(), l.dense_blocks.end(), r.blocks[k]);
-      if (it != l.dense_blocks.end()) {
-        r.coupling[k] = l.coupling_offsets[it - l.dense_blocks.begin()];
+      // Kept sorted by dense offset (inserted in place), so that the Schur update of block pair
+      // (i <= j) lands in the upper triangle; coupling offsets in order of first appearance.
+      const auto it = std::lower_bound(l.dense_blocks.begin(), l.dense_blocks.end(), b.offset,
+                                       [&](int block, int offset) { return blocks_[block].offset < offset; });
+      const auto at = it - l.dense_blocks.begin();
+      if (it != l.dense_blocks.end() && *it == r.blocks[k]) {
+        r.coupling[k] = l.coupling_offsets[static_cast<size_t>(at)];
       } else {
-        l.dense_blocks.push_back(r.blocks[k]);
-        l.coupling_offsets.push_back(l.coupling_size);
+        l.dense_blocks.insert(it, r.blocks[k]);
+        l.coupling_offsets.insert(l.coupling_offsets.begin() + at, l.coupling_size);
         r.coupling[k] = l.coupling_size;
         l.coupling_size += b.tangent;
       }
     }
-  }
-  for (Landmark& l : landmarks_) {
-    // Sorted by dense offset, so that the Schur update of block pair (i <= j) lands in the upper
-    // triangle.
-    std::vector<size_t> order(l.dense_blocks.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-      return blocks_[l.dense_blocks[a]].offset < blocks_[l.dense_blocks[b]].offset;
-    });
-    std::vector<int> blocks, offsets;
-    for (size_t i : order) {
-      blocks.push_back(l.dense_blocks[i]);
-      offsets.push_back(l.coupling_offsets[i]);
-    }
-    l.dense_blocks.swap(blocks);
-    l.coupling_offsets.swap(offsets);
   }
   int coupling_total = 0;
   for (Landmark& l : landmarks_) {
