@@ -20,11 +20,12 @@ DynamicMasker::DynamicMasker(const DynamicMaskerOptions& options,
   if (!options_.track && options_.detect_every != 1)
     throw std::invalid_argument("DynamicMasker: detecting every n-th frame needs the tracker to carry the boxes");
   if (options_.segment_every < 0) throw std::invalid_argument("DynamicMasker: segment_every must be >= 0");
-  const int every = options_.segment_every > 0 ? options_.segment_every : segmenter_->slow() ? 10 : 1;
+  const int every = options_.segment_every > 0 ? options_.segment_every : segmenter_->refreshEvery();
   if (every > 1) {
     if (!options_.track) throw std::invalid_argument("DynamicMasker: sparse segmentation needs the tracker's ids");
-    sparse_ = std::make_unique<SparseSegmenter>(std::move(segmenter_),
-                                                SparseSegmenterOptions{every, 0.25, options_.segment_async});
+    // The worker thread is for a segmenter too slow to wait for; a per-box one runs inline.
+    const bool asynchronous = options_.segment_async && segmenter_->slow();
+    sparse_ = std::make_unique<SparseSegmenter>(std::move(segmenter_), SparseSegmenterOptions{every, 0.25, asynchronous});
   }
 }
 
@@ -70,17 +71,7 @@ DynamicMaskResult DynamicMasker::maskBoxes(const cv::Mat& image, DynamicMaskResu
   for (const TrackedObject& o : r.objects)
     if (o.box.w >= options_.min_box_side_px && o.box.h >= options_.min_box_side_px && !static_ids_.count(o.id))
       objects.push_back(o);
-  cv::Mat raw;
-  if (sparse_) {
-    raw = sparse_->segment(image, objects);
-  } else {
-    // The point prompts cut the motion cue's own boxes only: in a detector's box a point that
-    // looks still may be on an object moving along its epipolar line (tracking/object_motion.h).
-    std::vector<Box> boxes, cue_boxes;
-    for (const TrackedObject& o : objects) (o.class_id == kMovingClass && !points.empty() ? cue_boxes : boxes).push_back(o.box);
-    raw = segmenter_->segment(image, boxes);
-    if (!cue_boxes.empty()) raw |= segmenter_->segmentWithPoints(image, cue_boxes, points);
-  }
+  const cv::Mat raw = sparse_ ? sparse_->segment(image, objects, points) : segmentObjects(*segmenter_, image, objects, points);
   r.segment_ms = data::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();

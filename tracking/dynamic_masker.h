@@ -51,6 +51,7 @@ class DynamicMasker {
   const BoxSegmenter& segmenter() const { return sparse_ ? sparse_->inner() : *segmenter_; }
   // Runs of the box segmenter so far when it runs sparsely (-1 when it runs on every frame).
   int segmenterRuns() const { return sparse_ ? sparse_->innerRuns() : -1; }
+  int64_t boxesSegmented() const { return sparse_ ? sparse_->boxesSegmented() : -1; }
 
  private:
   DynamicMaskResult maskBoxes(const cv::Mat& image, DynamicMaskResult r, const std::vector<PointPrompt>& points = {});

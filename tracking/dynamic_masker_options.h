@@ -4,7 +4,7 @@
 // config, `adugs track --config` from the same file; command-line flags only override fields.
 //   detect_every, tracker: sort | none, noise: adaptive | fixed, SORT's max_age / min_hits /
 //   iou_min, the adaptive noise's lambda / beta_pos / beta_size / window, erode_radius_px /
-//   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 10 for MobileSAM),
+//   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 3 for GrabCut, 10 for MobileSAM),
 //   segment_async, camera_motion_compensation, appearance_weight, and the association stages
 //   high_score / low_iou_min / drop_unconfirmed / last_box_association / direction_weight /
 //   direction_frames / recovery; and the map motion_cue: of the class-free motion cue's options
@@ -36,11 +36,11 @@ struct DynamicMaskerOptions {
   // false: each frame's detections are segmented as they are, without SORT (the paper's "no
   // SORT" ablation); needs detect_every = 1.
   bool track = true;
-  // Frames between box-segmenter runs, the masks carried by the tracked boxes in between
-  // (tracking/segment/sparse_segmenter.h); 0 = automatic: every frame, every 10th for a slow segmenter
-  // (MobileSAM). 1 = every frame.
+  // Frames between a track's box-segmenter runs, its mask carried by its tracked box in between
+  // (tracking/segment/sparse_segmenter.h); 0 = automatic (BoxSegmenter::refreshEvery: every 3rd
+  // frame for GrabCut, every 10th for MobileSAM, every frame for filled boxes). 1 = every frame.
   int segment_every = 0;
-  bool segment_async = true;  // sparse runs on a worker thread (false: inline, reproducible)
+  bool segment_async = true;  // a slow segmenter's sparse runs on a worker thread (false: inline, reproducible)
   // The caller feeds the gyro's image motion to SORT (compensateCameraMotion) when true.
   bool camera_motion_compensation = false;
   MotionCueOptions motion_cue;  // the class-free cue's, when it runs (--mask motion, --motion-cue)

@@ -46,6 +46,9 @@ constexpr int kMovingClass = -1;
 
 struct MotionCueOptions {
   int cell_px = 24;               // one point per grid cell of this side
+  // Side of KLT's window: its cost grows with the area (15 -> 11: half the KLT's time, the
+  // masks' recall unchanged over 9 sequences; doc/results.md, "The motion cue's cost").
+  int klt_window_px = 11;
   // Of the image's strongest corner: weaker cells get no point. Low: the plain textures of
   // vehicles and walls are where movers lose their points (0.001 -> 0.0001: moving-pixel recall
   // 0.50 -> 0.67 over 9 simulated sequences, street 0.33 -> 0.61; doc/results.md).

@@ -29,8 +29,12 @@ class BoxSegmenter {
     return segment(image, boxes);
   }
   virtual const char* name() const = 0;
-  // Too slow to run on every frame on a CPU (the dynamic masker then runs it sparsely).
+  // Too slow to run on every frame on a CPU, and one costly run serves every box (an image
+  // encoder): the dynamic masker then runs it sparsely on a worker thread, all boxes at once.
   virtual bool slow() const { return false; }
+  // Frames between a track's fresh masks (carried by its box in between) when the run config
+  // leaves `dynamic: segment_every` automatic (tracking/segment/sparse_segmenter.h).
+  virtual int refreshEvery() const { return 1; }
 };
 
 // The integer pixel rectangle of a box clipped to a width x height image (may be empty).

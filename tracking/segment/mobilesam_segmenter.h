@@ -31,6 +31,7 @@ class MobileSamSegmenter : public BoxSegmenter {
   cv::Mat segment(const cv::Mat& image, const std::vector<Box>& boxes) override;
   const char* name() const override { return "mobilesam"; }
   bool slow() const override { return true; }
+  int refreshEvery() const override { return 10; }
   // How many boxes fell back to the filled box in the last call.
   int lastFallbacks() const { return fallbacks_; }
 

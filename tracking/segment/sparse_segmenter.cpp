@@ -4,6 +4,8 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "tracking/detect/motion_cue.h"
+
 namespace adugs::tracking {
 namespace {
 
@@ -27,6 +29,16 @@ double aspect(const Box& b) { return b.w / std::max(b.h, 1e-6); }
 
 }  // namespace
 
+cv::Mat segmentObjects(BoxSegmenter& segmenter, const cv::Mat& image, const std::vector<TrackedObject>& objects,
+                       const std::vector<PointPrompt>& points) {
+  std::vector<Box> boxes, cue_boxes;
+  for (const TrackedObject& o : objects)
+    (o.class_id == kMovingClass && !points.empty() ? cue_boxes : boxes).push_back(o.box);
+  cv::Mat mask = segmenter.segment(image, boxes);
+  if (!cue_boxes.empty()) mask |= segmenter.segmentWithPoints(image, cue_boxes, points);
+  return mask;
+}
+
 SparseSegmenter::SparseSegmenter(std::unique_ptr<BoxSegmenter> inner, const SparseSegmenterOptions& options)
     : inner_(std::move(inner)), options_(options) {
   if (!inner_) throw std::invalid_argument("SparseSegmenter: no segmenter");
@@ -43,10 +55,9 @@ SparseSegmenter::~SparseSegmenter() {
   if (worker_.joinable()) worker_.join();
 }
 
-SparseSegmenter::Entries SparseSegmenter::run(const cv::Mat& image, const std::vector<TrackedObject>& objects) {
-  std::vector<Box> boxes;
-  for (const TrackedObject& o : objects) boxes.push_back(o.box);
-  const cv::Mat all = inner_->segment(image, boxes);  // one encoder run for every box
+SparseSegmenter::Entries SparseSegmenter::run(const cv::Mat& image, const std::vector<TrackedObject>& objects,
+                                              const std::vector<PointPrompt>& points) {
+  const cv::Mat all = segmentObjects(*inner_, image, objects, points);  // a slow segmenter: one encoder run for every box
   Entries entries;
   for (const TrackedObject& o : objects) {
     const cv::Rect r = clippedRect(o.box, image.cols, image.rows);
@@ -66,7 +77,7 @@ void SparseSegmenter::work() {
     Entries entries;
     std::exception_ptr error;
     try {
-      entries = run(job.first, job.second);
+      entries = run(job.image, job.objects, job.points);
     } catch (...) {
       error = std::current_exception();
     }
@@ -77,19 +88,25 @@ void SparseSegmenter::work() {
   }
 }
 
-bool SparseSegmenter::due(const std::vector<TrackedObject>& objects) const {
-  if (objects.empty()) return false;
-  if (frames_since_run_ >= options_.refresh_every) return true;
-  for (const TrackedObject& o : objects) {
-    const auto it = cache_.find(o.id);
-    if (it == cache_.end()) return true;  // a new track
-    if (std::abs(aspect(o.box) / aspect(it->second.box) - 1.0) > options_.reshape_ratio) return true;
-  }
-  return false;
+bool SparseSegmenter::due(const TrackedObject& o) const {
+  const auto it = cache_.find(o.id);
+  if (it == cache_.end()) return true;  // a new track
+  if (std::abs(aspect(o.box) / aspect(it->second.box) - 1.0) > options_.reshape_ratio) return true;
+  return it->second.age >= options_.refresh_every;
 }
 
-cv::Mat SparseSegmenter::segment(const cv::Mat& image, const std::vector<TrackedObject>& objects) {
-  ++frames_since_run_;
+std::vector<TrackedObject> SparseSegmenter::toSegment(const std::vector<TrackedObject>& objects) const {
+  std::vector<TrackedObject> due_now;
+  for (const TrackedObject& o : objects)
+    if (due(o)) due_now.push_back(o);
+  // The shared encoder costs the same for one box as for all: then all are refreshed together.
+  if (inner_->slow() && !due_now.empty()) return objects;
+  return due_now;
+}
+
+cv::Mat SparseSegmenter::segment(const cv::Mat& image, const std::vector<TrackedObject>& objects,
+                                 const std::vector<PointPrompt>& points) {
+  for (auto& [id, entry] : cache_) ++entry.age;
   if (options_.asynchronous) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
@@ -97,17 +114,20 @@ cv::Mat SparseSegmenter::segment(const cv::Mat& image, const std::vector<Tracked
       for (auto& [id, entry] : *result_) cache_[id] = std::move(entry);
       result_.reset();
     }
-    if (!busy_ && due(objects)) {
-      job_.emplace(image.clone(), objects);
-      busy_ = true;
-      frames_since_run_ = 0;
-      ++runs_;
-      wake_.notify_one();
+    if (!busy_) {
+      std::vector<TrackedObject> due_now = toSegment(objects);
+      if (!due_now.empty()) {
+        job_.emplace(Job{image.clone(), std::move(due_now), points});
+        busy_ = true;
+        ++runs_;
+        boxes_segmented_ += static_cast<int64_t>(job_->objects.size());
+        wake_.notify_one();
+      }
     }
-  } else if (due(objects)) {
-    for (auto& [id, entry] : run(image, objects)) cache_[id] = std::move(entry);
-    frames_since_run_ = 0;
+  } else if (const std::vector<TrackedObject> due_now = toSegment(objects); !due_now.empty()) {
+    for (auto& [id, entry] : run(image, due_now, points)) cache_[id] = std::move(entry);
     ++runs_;
+    boxes_segmented_ += static_cast<int64_t>(due_now.size());
   }
   // Forget tracks that ended.
   for (auto it = cache_.begin(); it != cache_.end();) {
