@@ -57,7 +57,8 @@ SparseSegmenter::~SparseSegmenter() {
 
 SparseSegmenter::Entries SparseSegmenter::run(const cv::Mat& image, const std::vector<TrackedObject>& objects,
                                               const std::vector<PointPrompt>& points) {
-  const cv::Mat all = segmentObjects(*inner_, image, objects, points);  // a slow segmenter: one encoder run for every box
+  // One call for all the boxes: a slow segmenter then runs its encoder once.
+  const cv::Mat all = segmentObjects(*inner_, image, objects, points);
   Entries entries;
   for (const TrackedObject& o : objects) {
     const cv::Rect r = clippedRect(o.box, image.cols, image.rows);
