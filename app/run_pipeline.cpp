@@ -109,6 +109,10 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
     out << "solver_steps_per_solve: " << es.solver_iterations * per_solve << "  # tried, of which accepted "
         << es.solver_successful * per_solve << "; at most max_iterations (" << estimator->options().max_iterations
         << "), fewer when converged\n";
+    out << "first_estimate_jacobians: " << (estimator->options().first_estimate_jacobians ? "true" : "false")
+        << "\n"
+        << "prior_yaw_information_median: " << median(es.prior_yaw_information)
+        << "  # rad^-2 along the unobservable turn about gravity, after each marginalisation (0 when consistent)\n";
     const Eigen::Isometry3d& T = estimator->extrinsic();
     const Eigen::Isometry3d& T0 = sequence.camera.T_B_C;
     const Eigen::Quaterniond q(T.rotation());
@@ -225,6 +229,8 @@ void runPipeline(data::OpenedSequence& sequence, const PipelineRunArgs& a) {
   stats.sequence_s = s.sequence_s;
   stats.wall_s = r.wall_s;
   stats.extra_summary = "config: \"" + config_used + "\"\n" + summaryLines(pipeline, r, sequence, config, a, weak);
+  if (const vio::SlidingWindowEstimator* estimator = pipeline.estimator())
+    stats.relative_poses = &estimator->stats().relative_poses;
   if (r.end == PipelineResult::End::kStopped && !a.quiet)
     std::cerr << a.command << ": stopped (" << r.why << ") after " << s.frames
               << " frames; the frames already inside were finished and every output is written\n";

@@ -7,6 +7,7 @@
 
 #include "data/formats/atomic_file.h"
 #include "data/formats/trajectory_io.h"
+#include "vio/eval/consistency.h"
 #include "vio/eval/trajectory_eval.h"
 #include "vio/eval/trajectory_plot.h"
 
@@ -54,6 +55,14 @@ void writeRunOutputs(const std::string& out_dir, const std::string& estimator,
             << "correct_rate_thresholds: {max_position_m: " << options.correct_rate.max_position_m
             << ", max_angle_deg: " << options.correct_rate.max_angle_deg << "}\n"
             << "gt_duplicates_dropped: " << gt_info.duplicates_dropped << "\n";
+    if (stats.relative_poses && !stats.relative_poses->empty()) {
+      const vio::ConsistencyResult c = vio::evaluateConsistency(*stats.relative_poses, gt);
+      summary << "nees_relative: {pose: " << c.nees_pose << ", position: " << c.nees_position
+              << ", yaw: " << c.nees_yaw << ", within_95: " << c.within_95 << ", count: " << c.count
+              << "}  # newest window frame against the oldest; consistent: 6, 3, 1, 0.95\n";
+      std::printf("  NEES        pose %.2f (6), position %.2f (3), yaw %.2f (1) over %zu windows\n", c.nees_pose,
+                  c.nees_position, c.nees_yaw, c.count);
+    }
     const std::string plot = (fs::path(out_dir) / "eval.png").string();
     vio::PlotOptions plot_options;
     plot_options.title = "adugs " + stats.command + " (" + estimator + ")";

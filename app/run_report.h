@@ -4,6 +4,9 @@
 // summary.yaml, eval.png).
 #include <cstddef>
 #include <string>
+#include <vector>
+
+#include "vio/estimator/relative_pose_estimate.h"
 
 namespace adugs::app {
 
@@ -16,6 +19,9 @@ struct RunStats {
   double sequence_s = 0.0;    // sequence time spanned by the frames
   double wall_s = 0.0;        // processing time
   std::string extra_summary;  // estimator-specific YAML lines appended to summary.yaml
+  // The window's relative poses with their covariance (estimator: report_relative_covariance):
+  // with ground truth, their NEES goes into summary.yaml (vio/eval/consistency.h). May be null.
+  const std::vector<vio::RelativePoseEstimate>* relative_poses = nullptr;
 };
 
 // Writes out_dir/summary.yaml, evaluates against gt_path when not empty (se3 alignment), prints

@@ -2,8 +2,10 @@
 """Tables of scripts/bench_vio.sh from its run folders (OUT/runs/LABEL/RUN/summary.yaml): per set,
 one row per run with each label's ATE [m] and ATE in % of the distance travelled, then the
 aggregates (mean, median, max, sequences over 0.3 %, better/worse than the first label, the
-geometric mean of the per-sequence ATE ratios against the first label) and the speed (median over
-runs of the real-time factor and of the per-frame back-end median).
+geometric mean of the per-sequence ATE ratios against the first label), the speed (median over
+runs of the real-time factor and of the per-frame back-end median) and, for runs with
+`report_relative_covariance`, the median over runs of the mean NEES (pose, position, yaw; consistent:
+6, 3, 1) and of the share within the 95 % bound.
 Usage: bench_vio_report.py OUT --manifest FILE --labels "L1 L2 ..."
 """
 import argparse
@@ -24,6 +26,11 @@ def read_run(path):
         m = re.search(r"^\s*%s: ([0-9.eE+-]+)" % key, open(summary).read(), re.M)
         if m:
             values[key] = float(m.group(1))
+    m = re.search(r"^nees_relative: \{([^}]*)\}", open(summary).read(), re.M)
+    if m:
+        for item in m.group(1).split(","):
+            key, value = item.split(":")
+            values["nees_" + key.strip()] = float(value)
     return values
 
 
@@ -65,6 +72,7 @@ def main():
         rtf = {l: [] for l in labels}
         backend = {l: [] for l in labels}
         resets = {l: 0 for l in labels}
+        nees = {l: {} for l in labels}
         for name in names:
             cells = []
             for l in labels:
@@ -83,6 +91,9 @@ def main():
                 rtf[l] += [x["realtime_factor"] for x in ok if "realtime_factor" in x]
                 backend[l] += [x["backend_median"] for x in ok if "backend_median" in x]
                 resets[l] += int(r.get("resets", 0))
+                for key in ("nees_pose", "nees_position", "nees_yaw", "nees_within_95"):
+                    if key in r:
+                        nees[l].setdefault(key, []).append(r[key])
                 cells.append("%.3f (%s)" % (ate[l][name], fmt(pct[l].get(name), "%.2f")))
             print("| %s | %s |" % (name, " | ".join(cells)))
 
@@ -111,6 +122,12 @@ def main():
             fmt(stat(rtf[l], statistics.median), "%.2f"), fmt(stat(rtf[l], min), "%.2f")))
         row("back-end ms (median of medians)", lambda l: fmt(stat(backend[l], statistics.median), "%.1f"))
         row("resets", lambda l: "%d" % resets[l])
+        if any(nees[l] for l in labels):
+            row("NEES pose / position / yaw (median of means; consistent 6 / 3 / 1)", lambda l: " / ".join(
+                fmt(stat(nees[l].get(k, []), statistics.median), "%.2f")
+                for k in ("nees_pose", "nees_position", "nees_yaw")))
+            row("within the 95 % bound (median; consistent 0.95)",
+                lambda l: fmt(stat(nees[l].get("nees_within_95", []), statistics.median), "%.2f"))
 
 
 if __name__ == "__main__":

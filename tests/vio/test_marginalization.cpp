@@ -501,5 +501,121 @@ TEST(Marginalization, PriorMovedWithTheWorldFrameCostsTheSameAtTheMovedStates) {
   EXPECT_GT(unmoved.cost, 1.5 * before.cost);
 }
 
+
+// A cost that remembers where it was asked for Jacobians and where for residuals only (first
+// value of its first block): first-estimate Jacobians must take the former at x0.
+class RecordingCost : public ceres::CostFunction {
+ public:
+  explicit RecordingCost(const ceres::CostFunction* inner) : inner_(inner) {
+    set_num_residuals(inner->num_residuals());
+    *mutable_parameter_block_sizes() = inner->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    (jacobians ? jacobian_points : residual_points).push_back(x[0][0]);
+    return inner_->Evaluate(x, residuals, jacobians);
+  }
+  mutable std::vector<double> jacobian_points, residual_points;
+
+ private:
+  const ceres::CostFunction* inner_;
+};
+
+// Blocks x1 .. x4 (Euclidean, 2 each) in a chain of linear residuals: marginalise x1 (a prior on
+// x2, x3), move the values as a solve would, then marginalise x2 with that prior and the next
+// residuals. Linear residuals: the Schur complement is exact at any point, so with and without
+// first-estimate Jacobians the second prior must be the same quadratic; with them it is expanded
+// about x3's first estimate (its value at the first marginalisation), not its current value.
+struct TwoMarginalisations {
+  std::mt19937 rng{11};
+  std::array<double, 2> x1{0.5, -1.0}, x2{0.2, 0.1}, x3{-0.3, 0.4}, x4{1.0, 2.0};
+  std::unique_ptr<LinearCost> c123, c234, c34;
+  std::shared_ptr<const MarginalizationPrior> first;
+  std::array<double, 2> x3_first{};
+
+  TwoMarginalisations() {
+    auto random = [&](int rows, int cols) { return randomMatrix(rows, cols, rng); };
+    c123 = std::make_unique<LinearCost>(std::vector<Eigen::MatrixXd>{random(5, 2), random(5, 2), random(5, 2)},
+                                        random(5, 1));
+    c234 = std::make_unique<LinearCost>(std::vector<Eigen::MatrixXd>{random(5, 2), random(5, 2), random(5, 2)},
+                                        random(5, 1));
+    c34 = std::make_unique<LinearCost>(std::vector<Eigen::MatrixXd>{random(3, 2), random(3, 2)}, random(3, 1));
+    Marginalizer m;
+    m.addResidualBlock(c123.get(), nullptr, {x1.data(), x2.data(), x3.data()});
+    first = m.marginalize({x1.data()});
+    x3_first = x3;
+    // A solve moved the kept states.
+    x2 = {0.25, 0.05};
+    x3 = {-0.1, 0.6};
+    x4 = {0.9, 2.2};
+  }
+  std::shared_ptr<const MarginalizationPrior> second(bool first_estimates, const ceres::CostFunction* cost234) {
+    Marginalizer m;
+    m.addPrior(first, first_estimates);
+    m.addResidualBlock(cost234, nullptr, {x2.data(), x3.data(), x4.data()});
+    m.addResidualBlock(c34.get(), nullptr, {x3.data(), x4.data()});  // ignored: no x2
+    return m.marginalize({x2.data()});
+  }
+};
+
+double priorCost(const MarginalizationPrior& p, const std::array<double, 2>& a, const std::array<double, 2>& b) {
+  return linearizePrior(p, {a.data(), b.data()}, false).cost;
+}
+
+TEST(Marginalization, FirstEstimatePriorIsTheSameQuadraticAboutTheFirstEstimates) {
+  TwoMarginalisations f;
+  RecordingCost recorded(f.c234.get());
+  const auto fej = f.second(true, &recorded);
+  const auto plain = f.second(false, f.c234.get());
+  ASSERT_EQ(fej->blocks.size(), 2u);
+  ASSERT_EQ(fej->blocks[0], f.x3.data());
+  // x3 keeps its first estimate; x4, new to the prior, is linearised where it is.
+  EXPECT_EQ(fej->x0[0], std::vector<double>(f.x3_first.begin(), f.x3_first.end()));
+  EXPECT_EQ(fej->x0[1], std::vector<double>(f.x4.begin(), f.x4.end()));
+  EXPECT_EQ(plain->x0[0], std::vector<double>(f.x3.begin(), f.x3.end()));
+  // The residual at the current value of x2 (its first block), the Jacobians at its first estimate.
+  ASSERT_EQ(recorded.jacobian_points.size(), 1u);
+  ASSERT_EQ(recorded.residual_points.size(), 1u);
+  EXPECT_EQ(recorded.jacobian_points[0], f.first->x0[0][0]);
+  EXPECT_EQ(recorded.residual_points[0], f.x2[0]);
+  EXPECT_NE(f.first->x0[0][0], f.x2[0]);
+  // The same quadratic: the same cost anywhere (and the same curvature).
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::array<double, 2> a{n(f.rng), n(f.rng)}, b{n(f.rng), n(f.rng)};
+    const double expected = priorCost(*plain, a, b);
+    EXPECT_NEAR(priorCost(*fej, a, b), expected, 1e-9 * std::max(1.0, expected));
+  }
+  EXPECT_LT((fej->H - plain->H).norm(), 1e-9 * plain->H.norm());
+}
+
+// A hand-worked case: one pose at p0 = (1, 2, 0), q0 = identity, and a speed-bias with v0 = (0, 3, 0),
+// H diagonal 1 .. 15. The turn about z by one radian moves the pose by n = [z x p0, R0^T z] =
+// [(-2, 1, 0), (0, 0, 1)] and the velocity by z x v0 = (-3, 0, 0):
+// n^T H n = 1*4 + 2*1 + 6*1 + 7*9 = 75.
+TEST(Marginalization, InformationAlongYawHandWorked) {
+  const PoseManifold pm;
+  Pose a = pose({1, 2, 0}, {0, 0, 0});
+  std::array<double, 9> sb{0, 3, 0, 0.1, 0.2, 0.3, 0.01, 0.02, 0.03};
+  MarginalizationPrior prior;
+  prior.blocks = {a.data(), sb.data()};
+  prior.sizes = {7, 9};
+  prior.tangent_sizes = {6, 9};
+  prior.tangent_offsets = {0, 6};
+  prior.manifolds = {&pm, nullptr};
+  prior.x0 = {std::vector<double>(a.begin(), a.end()), std::vector<double>(sb.begin(), sb.end())};
+  prior.H = Eigen::VectorXd::LinSpaced(15, 1, 15).asDiagonal();
+  prior.J = prior.H.cwiseSqrt();
+  EXPECT_NEAR(informationAlongYaw(prior, {a.data()}, {sb.data()}), 75.0, 1e-12);
+  // At the linearisation point, not at the block's current value.
+  a[0] = 5;
+  EXPECT_NEAR(informationAlongYaw(prior, {a.data()}, {sb.data()}), 75.0, 1e-12);
+  // A block in neither list is invariant under the turn (an extrinsic).
+  EXPECT_NEAR(informationAlongYaw(prior, {}, {sb.data()}), 63.0, 1e-12);
+  // Turned about z, the pose's rotation perturbation is R0^T z: with q0 a quarter turn about x,
+  // z maps to (0, 1, 0) in the body (rows 4 .. 6 of the diagonal: 5), and z x p0 is unchanged.
+  Pose b = pose({1, 2, 0}, {M_PI / 2, 0, 0});
+  prior.x0[0] = std::vector<double>(b.begin(), b.end());
+  EXPECT_NEAR(informationAlongYaw(prior, {a.data()}, {sb.data()}), 4 + 2 + 5 + 63, 1e-9);
+}
 }  // namespace
 }  // namespace adugs::vio

@@ -15,6 +15,7 @@
 #include "data/sources/euroc_reader.h"
 #include "tests/test_support.h"
 #include "vio/estimator/sliding_window_estimator.h"
+#include "vio/eval/consistency.h"
 #include "vio/eval/trajectory_eval.h"
 #include "vio/frontend/feature_tracker.h"
 
@@ -241,6 +242,72 @@ TEST(SlidingWindowEstimator, StandingStillKeepsTheGyroBiasAndTheTilt) {
   // accelerometer bias prior 10.4 deg.
   EXPECT_LT(both.gyro_bias_error, 0.005);
   EXPECT_LT(both.tilt_error_deg, 2.0);
+}
+
+// The heading about gravity is unobservable, so a consistent marginalisation prior holds no
+// information along the turn of the whole window about z. With the Jacobians of each solve taken
+// at the newest values, every marginalisation linearises the prior's frames at points other than
+// where the prior was built, and the prior gains information along that turn (it then resists
+// the heading corrections the images ask for). With first-estimate Jacobians the frames of the
+// prior stay linearised at its points and the turn stays free.
+TEST(SlidingWindowEstimator, FirstEstimateJacobiansKeepTheHeadingUnobservable) {
+  test::TempDir tmp("adugs_swe_fej");
+  const std::string root = makeSequence(tmp, "none", 10.0);
+  struct Consistency {
+    double median_yaw_information = 0, ate = 0;
+  };
+  const auto run = [&](bool first_estimates) {
+    PipelineSetup setup;
+    setup.options.first_estimate_jacobians = first_estimates;
+    const PipelineRun run = runPipeline(root, {}, {}, setup);
+    EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+    std::vector<double> info = run.stats.prior_yaw_information;
+    EXPECT_GT(info.size(), 10u);
+    Consistency c;
+    if (!info.empty()) {
+      std::nth_element(info.begin(), info.begin() + info.size() / 2, info.end());
+      c.median_yaw_information = info[info.size() / 2];
+    }
+    const EvalResult r = evaluate(run.trajectory, root);
+    c.ate = r.ate.translation.rmse;
+    // Newest values: as StaticStreetTracksWithinOneAndAHalfPercent. First estimates: tracking,
+    // not more (on this 10 s run they drift more, 0.24 against 0.15 m; which is better over many
+    // flights is the benchmark's question, doc/results.md).
+    EXPECT_LT(c.ate, (first_estimates ? 0.03 : 0.015) * r.gt_length_m);
+    return c;
+  };
+  const Consistency fej = run(true), newest = run(false);
+  std::cout << "prior's information along the yaw (median over marginalisations): first estimates "
+            << fej.median_yaw_information << ", newest values " << newest.median_yaw_information
+            << " rad^-2; ATE " << fej.ate << " / " << newest.ate << " m\n";
+  EXPECT_LT(fej.median_yaw_information, 1e-3);
+  EXPECT_GT(newest.median_yaw_information, 1.0);
+}
+
+// The window's covariance of the newest pose relative to the oldest (report_relative_covariance)
+// is of the order of the errors it makes. Not consistent: on this street sequence the NEES is
+// 31 (pose), 21 (position), 1.3 (yaw), the window ~5x overconfident in position (1.6-2x on the
+// room sequences, doc/results.md "Consistency"); the bounds hold that, and fail when the
+// covariance is taken in the wrong frame (without the turn into the oldest body frame: 191 and 94).
+TEST(SlidingWindowEstimator, WindowCovarianceIsOfTheSizeOfItsErrors) {
+  test::TempDir tmp("adugs_swe_nees");
+  const std::string root = makeSequence(tmp, "none", 10.0);
+  PipelineSetup setup;
+  setup.options.report_relative_covariance = true;
+  const PipelineRun run = runPipeline(root, {}, {}, setup);
+  ASSERT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+  const ConsistencyResult c = evaluateConsistency(
+      run.stats.relative_poses,
+      data::readTrajectory(root + "/mav0/state_groundtruth_estimate0/data.csv"));
+  std::cout << "NEES over " << c.count << " windows: pose " << c.nees_pose << ", position "
+            << c.nees_position << ", yaw " << c.nees_yaw << "; within the 95 % bound "
+            << c.within_95 << "\n";
+  EXPECT_GT(c.count, 150u);
+  EXPECT_GT(c.nees_pose, 6.0 / 2);
+  EXPECT_LT(c.nees_pose, 6.0 * 10);
+  EXPECT_LT(c.nees_position, 3.0 * 10);
+  EXPECT_LT(c.nees_yaw, 1.0 * 4);
+  EXPECT_GT(c.within_95, 0.05);
 }
 
 // solver_function_tolerance reaches the window solver: a looser one stops the solves after fewer

@@ -375,5 +375,59 @@ TEST(WindowSolver, RejectsAWrongStructure) {
   EXPECT_THROW(s.setConstant(&unknown), std::invalid_argument);
 }
 
+
+// r = a b - 2, remembering where it was asked for Jacobians and where for residuals only (a).
+class RecordedProduct : public ceres::SizedCostFunction<1, 1, 1> {
+ public:
+  bool Evaluate(double const* const* x, double* r, double** J) const override {
+    (J ? jacobian_points : residual_points).push_back(x[0][0]);
+    r[0] = x[0][0] * x[1][0] - 2.0;
+    if (J && J[0]) J[0][0] = x[1][0];
+    if (J && J[1]) J[1][0] = x[0][0];
+    return true;
+  }
+  mutable std::vector<double> jacobian_points, residual_points;
+};
+
+// Under first-estimate Jacobians a block of the prior is linearised at the prior's x0 in every
+// residual, while the costs (and so the accepted steps) are at the current values.
+TEST(WindowSolver, FirstEstimateJacobiansAreTakenAtThePriorsLinearisationPoint) {
+  for (const bool first_estimates : {true, false}) {
+    SCOPED_TRACE(first_estimates ? "first estimates" : "current values");
+    double a = 1.3, b = 1.5;
+    MarginalizationPrior prior;  // 2 (a - 1)^2 on a, linearised at a = 1
+    prior.blocks = {&a};
+    prior.sizes = prior.tangent_sizes = {1};
+    prior.tangent_offsets = {0};
+    prior.manifolds = {nullptr};
+    prior.x0 = {{1.0}};
+    prior.J = Eigen::MatrixXd::Constant(1, 1, 2.0);
+    prior.r = Eigen::VectorXd::Zero(1);
+    prior.H = Eigen::MatrixXd::Constant(1, 1, 4.0);
+    prior.b = Eigen::VectorXd::Zero(1);
+    RecordedProduct product;
+    WindowSolver solver;
+    solver.addBlock(&a, 1);
+    solver.addBlock(&b, 1);
+    solver.addResidual(&product, nullptr, {&a, &b});
+    solver.setPrior(&prior, first_estimates);
+    WindowSolverOptions o;
+    o.max_iterations = 3;
+    const WindowSolverSummary s = solver.solve(o);
+    EXPECT_LT(s.final_cost, s.initial_cost);
+    ASSERT_FALSE(product.jacobian_points.empty());
+    if (first_estimates) {
+      ASSERT_FALSE(product.residual_points.empty());
+      EXPECT_EQ(product.residual_points.front(), 1.3);
+    }
+    for (double at : product.jacobian_points) {
+      if (first_estimates)
+        EXPECT_EQ(at, 1.0);
+      else
+        EXPECT_NE(at, 1.0);
+    }
+    EXPECT_EQ(product.jacobian_points.front() == 1.3, !first_estimates);
+  }
+}
 }  // namespace
 }  // namespace adugs::vio

@@ -25,6 +25,8 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("gyro_bias_at_rest", o->gyro_bias_at_rest);
   r.optional("static_init_accel_bias_sigma", o->static_init_accel_bias_sigma, 0.0, 10.0);
   r.optional("stationary_parallax_px", o->stationary_parallax_px, 0.0, 100.0);
+  r.optional("first_estimate_jacobians", o->first_estimate_jacobians);
+  r.optional("report_relative_covariance", o->report_relative_covariance);
   r.optional("max_accel_bias", o->max_accel_bias, 0.01, 100.0);
   r.optional("max_gyro_bias", o->max_gyro_bias, 0.001, 100.0);
   r.optional("max_speed", o->max_speed, 0.1, 1000.0);

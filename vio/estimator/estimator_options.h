@@ -40,6 +40,14 @@ struct EstimatorOptions {
   // (m/s^2; 0 = free): at rest the tilt and the horizontal bias are one unknown (bias_prior_factor.h).
   double static_init_accel_bias_sigma = 0.05;
   double stationary_parallax_px = 1.0;
+  // First-estimate Jacobians (marginalization.h, linearizationPoint): the Jacobians on a frame in
+  // the marginalisation prior are evaluated where the prior linearised it, so that the window
+  // gains no information about its heading about gravity (doc/estimator.md).
+  bool first_estimate_jacobians = false;
+  // After each solve, keep the window's covariance of the newest frame's pose relative to the
+  // oldest (EstimatorStats::relative_poses) for the consistency check against ground truth
+  // (vio/eval/consistency.h). Costs one more linearisation and a factorisation per frame.
+  bool report_relative_covariance = false;
   // Failure detection: a reset and re-initialisation instead of a diverged state.
   double max_accel_bias = 2.5;     // m/s^2
   double max_gyro_bias = 1.0;      // rad/s

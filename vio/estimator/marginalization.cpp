@@ -139,6 +139,9 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
   std::vector<Eigen::MatrixXd> J;
   std::vector<double*> jac_ptrs;
   std::vector<const Block*> blocks;
+  const MarginalizationPrior* fej = first_estimates_ ? prior_.get() : nullptr;
+  std::vector<const double*> lin_ptrs;
+  Eigen::VectorXd lin_r;
   for (const Residual* res : used) {
     double* const* res_blocks = blocksOf(*res);
     const int n_res = res->cost->num_residuals();
@@ -156,10 +159,24 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
       J_amb[k].resize(n_res, sizes[k]);
       jac_ptrs[k] = J_amb[k].data();
     }
-    if (!res->cost->Evaluate(res_blocks, r.data(), jac_ptrs.data()))
+    // Under first-estimate Jacobians the blocks of the previous prior are linearised at its x0:
+    // the Jacobians there, the residual at the current values.
+    bool at_first_estimates = false;
+    lin_ptrs.resize(n_blocks);
+    for (size_t k = 0; k < n_blocks; ++k) {
+      lin_ptrs[k] = linearizationPoint(fej, res_blocks[k]);
+      at_first_estimates = at_first_estimates || lin_ptrs[k] != res_blocks[k];
+    }
+    if (at_first_estimates) {
+      lin_r.resize(n_res);
+      if (!res->cost->Evaluate(lin_ptrs.data(), lin_r.data(), jac_ptrs.data()) ||
+          !res->cost->Evaluate(res_blocks, r.data(), nullptr))
+        throw std::invalid_argument("Marginalizer: a cost function failed to evaluate");
+    } else if (!res->cost->Evaluate(res_blocks, r.data(), jac_ptrs.data())) {
       throw std::invalid_argument("Marginalizer: a cost function failed to evaluate");
+    }
     for (size_t k = 0; k < n_blocks; ++k)
-      if (blocks[k]) toTangent(J_amb[k], blocks[k]->manifold, res_blocks[k], &plus, &J[k]);
+      if (blocks[k]) toTangent(J_amb[k], blocks[k]->manifold, lin_ptrs[k], &plus, &J[k]);
 
     if (res->loss) {
       // J <- sqrt(rho') (J - alpha r r^T J / |r|^2), coefficient by coefficient: as one Eigen
@@ -191,7 +208,7 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
 
   if (use_prior) {
     std::vector<const double*> x(prior_->blocks.begin(), prior_->blocks.end());
-    const PriorLinearization L = linearizePrior(*prior_, x, true);
+    const PriorLinearization L = linearizePrior(*prior_, x, true, first_estimates_);
     for (size_t a = 0; a < prior_->blocks.size(); ++a) {
       const auto wa = where.find(prior_->blocks[a]);
       if (wa == where.end()) continue;  // constant
@@ -271,6 +288,23 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     g_star -= Hkd_Hdd_inv * g_rest.head(n_dense);
   }
   H_star = 0.5 * (H_star + H_star.transpose()).eval();
+  // g* is the gradient at the current values. The new prior is expanded about x0 = each kept
+  // block's first estimate where it has one (else its current value), so its gradient there is
+  // g* - H* (x [-] x0): exact for the quadratic the Schur complement left.
+  std::vector<const double*> x0_of(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const Block& b = kept[i];
+    x0_of[i] = linearizationPoint(fej, b.address);
+    if (x0_of[i] == b.address) continue;
+    Eigen::VectorXd m(b.tangent);
+    if (b.manifold) {
+      if (!b.manifold->Minus(b.address, x0_of[i], m.data()))
+        throw std::invalid_argument("Marginalizer: Minus failed");
+    } else {
+      for (int k = 0; k < b.size; ++k) m(k) = b.address[k] - x0_of[i][k];
+    }
+    g_star.noalias() -= H_star.middleCols(b.offset - n_marg, b.tangent) * m;
+  }
 
   // H* = V S V^T. A pivoted LDLT (a fifth of the cost) was tried on 2026-11-29 and left: its
   // near-zero pivots (the gauge: position and yaw) are rounding noise of +-1e-4 that falls on
@@ -301,13 +335,14 @@ std::shared_ptr<const MarginalizationPrior> Marginalizer::marginalize(
     prior->H.noalias() -= es.eigenvalues()(k) * v * v.transpose();
     prior->b -= v.dot(g_star) * v;
   }
-  for (const Block& b : kept) {
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const Block& b = kept[i];
     prior->blocks.push_back(b.address);
     prior->sizes.push_back(b.size);
     prior->tangent_sizes.push_back(b.tangent);
     prior->tangent_offsets.push_back(b.offset - n_marg);
     prior->manifolds.push_back(b.manifold);
-    prior->x0.emplace_back(b.address, b.address + b.size);
+    prior->x0.emplace_back(x0_of[i], x0_of[i] + b.size);
   }
   return prior;
 }
@@ -367,8 +402,34 @@ std::shared_ptr<const MarginalizationPrior> moveWorldFrame(
   return moved;
 }
 
+const double* linearizationPoint(const MarginalizationPrior* prior, const double* block) {
+  if (prior)
+    for (size_t k = 0; k < prior->blocks.size(); ++k)
+      if (prior->blocks[k] == block) return prior->x0[k].data();
+  return block;
+}
+
+double informationAlongYaw(const MarginalizationPrior& prior,
+                           const std::vector<const double*>& pose_blocks,
+                           const std::vector<const double*>& speed_bias_blocks) {
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  Eigen::VectorXd n = Eigen::VectorXd::Zero(prior.tangentSize());
+  for (size_t k = 0; k < prior.blocks.size(); ++k) {
+    const double* x0 = prior.x0[k].data();
+    const int o = prior.tangent_offsets[k];
+    if (std::find(pose_blocks.begin(), pose_blocks.end(), prior.blocks[k]) != pose_blocks.end()) {
+      n.segment<3>(o) = z.cross(posePosition(x0));
+      n.segment<3>(o + 3) = poseRotation(x0).conjugate() * z;  // rotation perturbed on the right
+    } else if (std::find(speed_bias_blocks.begin(), speed_bias_blocks.end(), prior.blocks[k]) !=
+               speed_bias_blocks.end()) {
+      n.segment<3>(o) = z.cross(Eigen::Vector3d(x0[0], x0[1], x0[2]));
+    }
+  }
+  return n.dot(prior.H * n);
+}
+
 PriorLinearization linearizePrior(const MarginalizationPrior& p, const std::vector<const double*>& x,
-                                  bool with_hessian) {
+                                  bool with_hessian, bool first_estimates) {
   const int n = p.tangentSize();
   Eigen::VectorXd m(n);
   for (size_t k = 0; k < p.blocks.size(); ++k) {
@@ -385,6 +446,7 @@ PriorLinearization linearizePrior(const MarginalizationPrior& p, const std::vect
   L.cost = 0.5 * (p.c + 2.0 * p.b.dot(m) + m.dot(Hm));
   L.gradient = p.b + Hm;
   if (with_hessian) L.hessian = p.H;
+  if (first_estimates) return L;
   // Chain rule through Minus: only the manifold blocks have D != I.
   for (size_t k = 0; k < p.blocks.size(); ++k) {
     if (!p.manifolds[k]) continue;

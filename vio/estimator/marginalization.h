@@ -49,8 +49,30 @@ struct PriorLinearization {
   Eigen::VectorXd gradient;  // tangent
   Eigen::MatrixXd hessian;   // tangent x tangent (empty unless asked for)
 };
+// With first_estimates, D is taken at x0 (the identity): the prior's Jacobian stays where it was
+// linearised, as every other factor's does on the prior's blocks under first-estimate Jacobians
+// (the cost and gradient still move with x).
 PriorLinearization linearizePrior(const MarginalizationPrior& prior,
-                                  const std::vector<const double*>& x, bool with_hessian);
+                                  const std::vector<const double*>& x, bool with_hessian,
+                                  bool first_estimates = false);
+
+// First-estimate Jacobians (FEJ; Huang, Mourikis and Roumeliotis; as Basalt and DSO keep a
+// linearisation point per state in the prior): once a block is in the marginalisation prior, every
+// Jacobian with respect to it is evaluated at the prior's linearisation point x0 of that block,
+// while residuals and costs are evaluated at the current value. Then all the factors on a block
+// agree on the point they are linearised at, and the linearised window keeps the true problem's
+// unobservable rotation about gravity; Jacobians at the newest values instead give the prior
+// information along it (doc/estimator.md, "First-estimate Jacobians").
+// The point to evaluate a Jacobian of `block` at: its x0 in `prior` under FEJ, else the block.
+const double* linearizationPoint(const MarginalizationPrior* prior, const double* block);
+
+// Information the prior holds along a turn of the whole window about the world's z axis (gravity),
+// which no measurement can see: n^T H n for the prior's tangent n of that turn by one radian at its
+// linearisation point (a pose: [z x p0, R0^T z]; a speed-bias: [z x v0, 0, 0]; other blocks 0).
+// Zero for a consistent prior; blocks in neither list count as invariant.
+double informationAlongYaw(const MarginalizationPrior& prior,
+                           const std::vector<const double*>& pose_blocks,
+                           const std::vector<const double*>& speed_bias_blocks);
 
 class Marginalizer {
  public:
@@ -64,7 +86,13 @@ class Marginalizer {
                         const std::vector<double*>& blocks);
   // The previous prior, linearised in its information form (not as a dense residual). Like a
   // residual block, it takes part only if it touches a marginalised block.
-  void addPrior(std::shared_ptr<const MarginalizationPrior> prior) { prior_ = std::move(prior); }
+  // With first_estimate_jacobians, the residuals' Jacobians on the prior's blocks are evaluated
+  // at its linearisation points (linearizationPoint above), and the new prior keeps those points.
+  void addPrior(std::shared_ptr<const MarginalizationPrior> prior,
+                bool first_estimate_jacobians = false) {
+    prior_ = std::move(prior);
+    first_estimates_ = first_estimate_jacobians;
+  }
   // Linearises at the current block values and Schur-complements `marginalized` out.
   // Throws std::invalid_argument if nothing is kept, a cost fails, or the prior is empty.
   std::shared_ptr<const MarginalizationPrior> marginalize(
@@ -84,6 +112,7 @@ class Marginalizer {
   std::vector<std::pair<const double*, const ceres::Manifold*>> manifolds_;
   std::vector<const double*> constant_;
   std::shared_ptr<const MarginalizationPrior> prior_;
+  bool first_estimates_ = false;
   const ceres::Manifold* manifoldOf(const double* block) const;
 };
 

@@ -453,7 +453,7 @@ void SlidingWindowEstimator::solve() {
     ++used;
   }
   stats_.landmarks_in_last_solve = used;
-  if (prior_) solver.setPrior(prior_.get());
+  if (prior_) solver.setPrior(prior_.get(), options_.first_estimate_jacobians);
 
   // The problem is invariant to a rotation about gravity and a translation (4 unobservable
   // degrees of freedom); remember where the oldest frame was to undo drift along them.
@@ -480,6 +480,7 @@ void SlidingWindowEstimator::solve() {
     T_B_C_iso_.linear() = q.toRotationMatrix();
     T_B_C_iso_.translation() = Eigen::Vector3d(T_B_C_[0], T_B_C_[1], T_B_C_[2]);
   }
+  if (options_.report_relative_covariance) recordRelativeCovariance(solver);
   // Yaw and position are unobservable; the window's linearised prior holds them only loosely (it
   // was built at older linearisation points), and solves right after initialisation rotated the
   // whole window by up to 4 deg in yaw, which every later pose inherits. So, as VINS-Mono's
@@ -498,6 +499,44 @@ void SlidingWindowEstimator::solve() {
     ++it;
   }
   stats_.solve_ms.push_back(data::msSince(t0));
+}
+
+void SlidingWindowEstimator::recordRelativeCovariance(WindowSolver& solver) {
+  if (frames_.size() < 2) return;
+  const Eigen::MatrixXd S = solver.frameInformation();
+  const Frame& from = *frames_.front();
+  const Frame& to = *frames_.back();
+  const int o_from = solver.tangentOffset(from.pose), o_to = solver.tangentOffset(to.pose);
+  if (S.size() == 0 || o_to < 0) return;
+  // Given the oldest pose: its rows and columns out of the information (where it is free).
+  std::vector<int> kept;
+  int to_row = -1;
+  for (int i = 0; i < static_cast<int>(S.rows()); ++i) {
+    if (o_from >= 0 && i >= o_from && i < o_from + 6) continue;
+    if (i == o_to) to_row = static_cast<int>(kept.size());
+    kept.push_back(i);
+  }
+  const int n = static_cast<int>(kept.size());
+  Eigen::MatrixXd given(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) given(i, j) = S(kept[i], kept[j]);
+  const Eigen::LLT<Eigen::MatrixXd> llt(given);
+  if (llt.info() != Eigen::Success) return;
+  Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(n, 6);
+  unit.middleRows(to_row, 6).setIdentity();
+  const Eigen::Matrix<double, 6, 6> newest = llt.solve(unit).middleRows(to_row, 6);
+  // [dp in the world, dtheta on the right] of the newest pose -> dp in the oldest body frame.
+  const Eigen::Matrix3d R_from = from.q().toRotationMatrix();
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Identity();
+  A.topLeftCorner<3, 3>() = R_from.transpose();
+  RelativePoseEstimate e;
+  e.t_from_ns = from.imuTimeNs();
+  e.t_to_ns = to.imuTimeNs();
+  e.p_from_to = R_from.transpose() * (to.p() - from.p());
+  e.q_from_to = (from.q().conjugate() * to.q()).normalized();
+  e.covariance = A * newest * A.transpose();
+  e.covariance = (0.5 * (e.covariance + e.covariance.transpose())).eval();
+  stats_.relative_poses.push_back(e);
 }
 
 void SlidingWindowEstimator::rejectOutliers() {
@@ -671,7 +710,7 @@ void SlidingWindowEstimator::marginalizeOldest() {
   Frame& oldest = *frames_[0];
   std::vector<const double*> marginalized{oldest.pose, oldest.speed_bias};
 
-  if (prior_) m.addPrior(prior_);
+  if (prior_) m.addPrior(prior_, options_.first_estimate_jacobians);
   if (frames_[1]->imu && frames_[1]->imu->sumDt() <= 10.0) {
     costs.push_back(std::make_unique<ImuFactor>(frames_[1]->imu));
     m.addResidualBlock(costs.back().get(), nullptr,
@@ -701,6 +740,11 @@ void SlidingWindowEstimator::marginalizeOldest() {
   } catch (const std::invalid_argument&) {
     prior_.reset();  // nothing connected the oldest frame to the rest: no prior to keep
   }
+  if (prior_) {
+    std::vector<const double*> poses, speed_biases;
+    for (auto& f : frames_) poses.push_back(f->pose), speed_biases.push_back(f->speed_bias);
+    stats_.prior_yaw_information.push_back(informationAlongYaw(*prior_, poses, speed_biases));
+  }
   const auto T_W_C = cameraPoses();
   frames_.pop_front();
   landmarks_.removeFrame(0, &T_W_C);
@@ -719,7 +763,7 @@ void SlidingWindowEstimator::dropFrame(int idx) {
     Marginalizer m;
     for (auto& f : frames_) m.setManifold(f->pose, &kPoseManifold);
     setCalibrationRoles(&m);
-    m.addPrior(prior_);
+    m.addPrior(prior_, options_.first_estimate_jacobians);
     std::vector<const double*> marginalized;
     if (contains(prior_->blocks, second.pose)) marginalized.push_back(second.pose);
     if (contains(prior_->blocks, second.speed_bias)) marginalized.push_back(second.speed_bias);

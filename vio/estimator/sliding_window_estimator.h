@@ -30,6 +30,7 @@
 #include "vio/estimator/estimator_options.h"
 #include "vio/estimator/landmark_map.h"
 #include "vio/estimator/marginalization.h"
+#include "vio/estimator/relative_pose_estimate.h"
 #include "vio/estimator/reprojection_factor_pool.h"
 #include "vio/frontend/frame_features.h"
 #include "vio/imu/imu_preintegration.h"
@@ -39,6 +40,8 @@ class CostFunction;
 }
 
 namespace adugs::vio {
+
+class WindowSolver;
 
 struct EstimatorState {
   int64_t t_ns = 0;  // IMU clock: the frame's camera stamp + the time offset it was added with
@@ -67,6 +70,12 @@ struct EstimatorStats {
   int solves = 0;
   int solves_cut_by_time = 0;     // solves stopped by max_solver_time_s before max_iterations
   std::vector<double> solve_ms, marginalization_ms;  // per solved frame
+  // After each marginalisation of the oldest frame: the information its prior holds along the
+  // window's unobservable turn about gravity (marginalization.h, informationAlongYaw) [rad^-2].
+  std::vector<double> prior_yaw_information;
+  // With EstimatorOptions::report_relative_covariance: per solve, the newest frame relative to the
+  // oldest with the window's covariance of it.
+  std::vector<RelativePoseEstimate> relative_poses;
 };
 
 class SlidingWindowEstimator {
@@ -140,6 +149,9 @@ class SlidingWindowEstimator {
   int64_t longestImuGap(int64_t from_ns, int64_t to_ns) const;
   bool tryInitialize();
   void solve();
+  // The newest frame relative to the oldest, with the covariance of the solver's linearised
+  // window given the oldest pose (EstimatorOptions::report_relative_covariance).
+  void recordRelativeCovariance(WindowSolver& solver);
   // The factors standing still puts on a frame's speed-bias block: zero velocity and, when
   // measured, the gyro bias at rest (built alike for the solve and the marginalisation).
   std::vector<std::unique_ptr<ceres::CostFunction>> restFactors(const Frame& f) const;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "vio/estimator/robust_correction.h"
@@ -195,8 +196,16 @@ void WindowSolver::prepare() {
     coupling_total += l.coupling_size;
   }
   prior_blocks_.clear();
+  for (Block& b : blocks_) b.first_estimate = nullptr;
   if (prior_)
-    for (const double* b : prior_->blocks) prior_blocks_.push_back(indexOf(b));
+    for (size_t k = 0; k < prior_->blocks.size(); ++k) {
+      prior_blocks_.push_back(indexOf(prior_->blocks[k]));
+      if (first_estimates_) blocks_[prior_blocks_.back()].first_estimate = prior_->x0[k].data();
+    }
+  for (Residual& r : residuals_)
+    r.at_first_estimates = std::any_of(r.blocks.begin(), r.blocks.end(), [&](int b) {
+      return blocks_[b].first_estimate && !blocks_[b].constant;
+    });
   chain_first_ = !chain_.empty() && chainIsTridiagonal();
   for (Linearization* L : {&current_, &candidate_}) {
     L->H.resize(dense_size_, dense_size_);
@@ -237,11 +246,13 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
     std::fill(out->g_landmark.begin(), out->g_landmark.end(), 0.0);
     std::fill(out->coupling.begin(), out->coupling.end(), 0.0);
     for (Block& b : blocks_)
-      if (b.offset >= 0 && b.manifold && !b.manifold->PlusJacobian(b.x, b.plus_jacobian.data()))
+      if (b.offset >= 0 && b.manifold &&
+          !b.manifold->PlusJacobian(b.first_estimate ? b.first_estimate : b.x, b.plus_jacobian.data()))
         return false;
   }
   double cost = 0;
   const double* params[kMaxBlocksPerResidual];
+  const double* first_estimates[kMaxBlocksPerResidual];
   double* jacobians[kMaxBlocksPerResidual];
   // Tangent Jacobians, row-major rows x tangent, in fixed-capacity buffers (no allocation per
   // residual). TangentCostFunctions write them directly; other costs write ambient ones, turned
@@ -261,9 +272,21 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
       any_jacobian = any_jacobian || wanted;
     }
     double** jac = any_jacobian ? jacobians : nullptr;
-    if (!(res.tangent ? res.tangent->EvaluateTangent(params, r, jac)
-                      : res.cost->Evaluate(params, r, jac)))
-      return false;
+    auto evaluateAt = [&](const double* const* at, double* residuals, double** jacobians_out) {
+      return res.tangent ? res.tangent->EvaluateTangent(at, residuals, jacobians_out)
+                         : res.cost->Evaluate(at, residuals, jacobians_out);
+    };
+    if (jac && res.at_first_estimates) {
+      // The Jacobians at the first estimates (FEJ), the residual at the current values.
+      for (size_t k = 0; k < n; ++k) {
+        const Block& b = blocks_[res.blocks[k]];
+        first_estimates[k] = b.first_estimate ? b.first_estimate : b.x;
+      }
+      double r_first[kMaxRows];
+      if (!evaluateAt(first_estimates, r_first, jac)) return false;
+      jac = nullptr;
+    }
+    if (!evaluateAt(params, r, jac)) return false;
     double sq_norm = 0;
     for (int i = 0; i < rows; ++i) sq_norm += r[i] * r[i];
     if (!std::isfinite(sq_norm)) return false;
@@ -329,7 +352,7 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
   if (prior_) {
     std::vector<const double*> x;
     for (int b : prior_blocks_) x.push_back(blocks_[b].x);
-    const PriorLinearization L = linearizePrior(*prior_, x, linearize);
+    const PriorLinearization L = linearizePrior(*prior_, x, linearize, first_estimates_);
     if (!std::isfinite(L.cost)) return false;
     cost += L.cost;
     if (linearize) {
@@ -352,19 +375,20 @@ bool WindowSolver::evaluate(bool linearize, Linearization* out) {
   return std::isfinite(cost);
 }
 
-bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
-                               std::vector<double>* step_landmarks, double* model_decrease) {
+void WindowSolver::eliminateLandmarks(const Linearization& at, double mu, Eigen::MatrixXd& S,
+                                      Eigen::VectorXd& rhs, Eigen::VectorXd& damping) const {
   const int n = dense_size_;
-  Eigen::MatrixXd& S = schur_;  // reused: no allocation per step
   S = at.H;
-  Eigen::VectorXd rhs = -at.g;
-  Eigen::VectorXd damping(n);
+  rhs = -at.g;
+  damping.resize(n);
   for (int i = 0; i < n; ++i) damping(i) = clampDiagonal(at.H(i, i)) / mu;
   S.diagonal() += damping;
   for (size_t k = 0; k < landmarks_.size(); ++k) {
     const Landmark& l = landmarks_[k];
     if (blocks_[l.block].constant) continue;
-    const double inv = 1.0 / (at.h[k] + clampDiagonal(at.h[k]) / mu);
+    const double h = at.h[k] + clampDiagonal(at.h[k]) / mu;
+    if (!(h > 0)) continue;  // undamped and unseen: nothing to eliminate
+    const double inv = 1.0 / h;
     const double* c = at.coupling.data() + l.coupling_base;
     const double g_inv = inv * at.g_landmark[k];
     // S -= c c^T / h over the blocks the landmark meets: block (i, j) -= c_i (c_j / h)^T for
@@ -384,6 +408,24 @@ bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::Vector
       }
     }
   }
+}
+
+Eigen::MatrixXd WindowSolver::frameInformation() {
+  if (!evaluate(true, &candidate_)) return {};
+  Eigen::MatrixXd S;
+  Eigen::VectorXd rhs, damping;
+  eliminateLandmarks(candidate_, std::numeric_limits<double>::infinity(), S, rhs, damping);
+  S.triangularView<Eigen::StrictlyLower>() = S.transpose();
+  return S;
+}
+
+int WindowSolver::tangentOffset(const double* block) const { return blocks_[indexOf(block)].offset; }
+
+bool WindowSolver::computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
+                               std::vector<double>* step_landmarks, double* model_decrease) {
+  Eigen::MatrixXd& S = schur_;  // reused: no allocation per step
+  Eigen::VectorXd rhs, damping;
+  eliminateLandmarks(at, mu, S, rhs, damping);
   if (chain_first_) {
     if (!solveChainFirst(S, rhs, step_dense)) return false;
   } else {

@@ -81,13 +81,27 @@ class WindowSolver {
   // Every block must have been added. Cost and loss (may be null) are not owned.
   void addResidual(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                    const std::vector<double*>& blocks);
-  // The marginalisation prior; its blocks must have been added. Not owned.
-  void setPrior(const MarginalizationPrior* prior) { prior_ = prior; }
+  // The marginalisation prior; its blocks must have been added. Not owned. With
+  // first_estimate_jacobians every residual's Jacobians on a block of the prior are evaluated at
+  // the prior's x0 of that block, and the prior's own without its Minus chain rule
+  // (marginalization.h, linearizationPoint); costs and residuals stay at the current values.
+  void setPrior(const MarginalizationPrior* prior, bool first_estimate_jacobians = false) {
+    prior_ = prior;
+    first_estimates_ = first_estimate_jacobians;
+  }
 
   // Minimises from the blocks' current values, which it leaves at the best point found.
   // Throws std::invalid_argument when the structure is wrong (unknown block, two landmarks in a
   // residual); a cost that fails to evaluate ends the solve at the last good point.
   WindowSolverSummary solve(const WindowSolverOptions& options);
+
+  // After solve(): the information of the frame blocks at their current values with the landmarks
+  // eliminated (the undamped Schur complement), over the dense layout of tangentOffset(). Removing
+  // the rows and columns of blocks held fixed and inverting gives the window's covariance of the
+  // others given those (the estimator's consistency report). Empty if a cost fails to evaluate.
+  Eigen::MatrixXd frameInformation();
+  // A frame block's first row in that layout; -1 for constant blocks and landmarks.
+  int tangentOffset(const double* block) const;
 
  private:
   struct Block {
@@ -100,6 +114,7 @@ class WindowSolver {
     int offset = -1;    // in the dense tangent vector (free frame blocks)
     std::vector<double> plus_jacobian;  // size x tangent, row-major, at the linearisation point
     std::vector<double> saved;          // value before a step
+    const double* first_estimate = nullptr;  // where its Jacobians are evaluated (FEJ), or null
   };
   // A residual's per-block indices, stored inline: a window has thousands of residuals, rebuilt
   // for every solve, and two heap allocations each showed in the profile.
@@ -120,6 +135,7 @@ class WindowSolver {
     BlockIndices blocks;
     int landmark = -1;
     BlockIndices coupling;  // per block: offset in its landmark's coupling vector, or -1
+    bool at_first_estimates = false;  // a block has a first estimate: two evaluations
   };
   struct Landmark {
     int block = -1;
@@ -142,6 +158,10 @@ class WindowSolver {
   // Cost at the current values into out->cost; with `linearize`, also the normal equations.
   // False if a cost function failed or gave a non-finite value.
   bool evaluate(bool linearize, Linearization* out);
+  // S (upper triangle) and rhs of the reduced system of `at` damped for mu (infinite: undamped),
+  // the landmarks eliminated, and the damping added to the diagonal.
+  void eliminateLandmarks(const Linearization& at, double mu, Eigen::MatrixXd& S, Eigen::VectorXd& rhs,
+                          Eigen::VectorXd& damping) const;
   // The damped Schur step of `at` for mu; false if the reduced system is not positive definite.
   bool computeStep(const Linearization& at, double mu, Eigen::VectorXd* step_dense,
                    std::vector<double>* step_landmarks, double* model_decrease);
@@ -162,6 +182,7 @@ class WindowSolver {
   std::vector<Residual> residuals_;
   std::vector<Landmark> landmarks_;
   const MarginalizationPrior* prior_ = nullptr;
+  bool first_estimates_ = false;
   std::vector<int> prior_blocks_;  // block index of each prior block
   int dense_size_ = 0;
   std::vector<int> chain_;  // the free chain blocks in order; offsets 0 .. chain_size_ - 1
