@@ -46,6 +46,32 @@ TEST(RefineDynamicMask, ObjectTouchingImageBorderIsNotErodedFromTheBorder) {
   EXPECT_EQ(out.at<uint8_t>(15, 0), 255);
 }
 
+// The refinement works only around the masked pixels; the result must be the whole image's
+// erosion then dilation, for objects inside, near and on the image's edges, apart or together.
+TEST(RefineDynamicMask, SameAsTheWholeImagesMorphology) {
+  cv::RNG rng(7);
+  for (int trial = 0; trial < 60; ++trial) {
+    cv::Mat mask(48, 64, CV_8UC1, cv::Scalar(0));
+    const int objects = trial % 4;  // 0: nothing masked
+    for (int k = 0; k < objects; ++k) {
+      const cv::Point c(rng.uniform(-4, 68), rng.uniform(-4, 52));
+      cv::ellipse(mask, c, cv::Size(rng.uniform(1, 12), rng.uniform(1, 9)), rng.uniform(0, 180), 0,
+                  360, cv::Scalar(255), cv::FILLED);
+    }
+    if (trial % 5 == 0) mask.at<uint8_t>(rng.uniform(0, 48), rng.uniform(0, 64)) = 200;  // speckle
+    const MaskRefinementOptions opt{trial % 3, 3 + trial % 5};
+    cv::Mat eroded, expected;
+    if (opt.erode_radius_px > 0)
+      cv::erode(mask > 0, eroded, diskElement(opt.erode_radius_px));
+    else
+      eroded = mask > 0;
+    cv::dilate(eroded, expected, diskElement(opt.dilate_radius_px));
+    const cv::Mat out = refineDynamicMask(mask, opt);
+    ASSERT_EQ(out.size(), mask.size());
+    EXPECT_EQ(cv::countNonZero(out != expected), 0) << "trial " << trial;
+  }
+}
+
 TEST(RefineDynamicMask, RejectsBadInput) {
   EXPECT_THROW(refineDynamicMask(cv::Mat(), {}), std::invalid_argument);
   EXPECT_THROW(refineDynamicMask(cv::Mat(10, 10, CV_32FC1), {}), std::invalid_argument);
