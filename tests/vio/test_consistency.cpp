@@ -9,7 +9,7 @@
 #include "vio/imu/so3.h"
 
 namespace adugs::vio {
-namespace {
+namespace consistency_test {
 
 constexpr int64_t kSec = 1'000'000'000LL;
 
@@ -76,5 +76,5 @@ TEST(Consistency, OverconfidentCovarianceFallsOutsideTheBound) {
   EXPECT_EQ(evaluateConsistency({bad}, gt).count, 0u);
 }
 
-}  // namespace
+}  // namespace consistency_test
 }  // namespace adugs::vio
