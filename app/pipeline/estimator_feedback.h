@@ -1,7 +1,7 @@
 #pragma once
 // What the estimator knows after each frame, fed back to the stages ahead of it: the gyro bias
 // (the front-end's KLT rotation prediction, the masker's camera-motion compensation) and, once
-// initialised, the body's velocity in its own frame (the motion cue's direction of travel). A
+// initialised, its whole state (the motion cue carries it with the IMU to the frame it works on). A
 // stage working on frame k asks for frame k - d, for a fixed d, and waits until the estimator has
 // it: what it gets never depends on the threads' timing, so a playback is reproducible to the byte.
 #include <condition_variable>
@@ -14,19 +14,25 @@
 
 #include <Eigen/Core>
 
+#include "vio/imu/imu_integrator.h"  // NavState
+
 namespace adugs::app {
 
 class EstimatorFeedback {
  public:
   struct AfterFrame {
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
-    std::optional<Eigen::Vector3d> v_B;  // body velocity in the body frame, once initialised
+    // The state after the frame, once initialised; its t_ns is on the IMU clock (the frame's
+    // camera stamp frame_t_ns plus the camera-IMU time offset).
+    std::optional<vio::NavState> state;
+    int64_t frame_t_ns = 0;
   };
 
   // What holds after the estimator's next frame (frames are numbered 0, 1, ... in the order given).
-  void publish(const Eigen::Vector3d& gyro_bias, const std::optional<Eigen::Vector3d>& v_B = std::nullopt) {
+  void publish(const Eigen::Vector3d& gyro_bias, const std::optional<vio::NavState>& state = std::nullopt,
+               int64_t frame_t_ns = 0) {
     std::lock_guard<std::mutex> lock(mutex_);
-    frames_.push_back({gyro_bias, v_B});
+    frames_.push_back({gyro_bias, state, frame_t_ns});
     ++published_count_;
     if (frames_.size() > kKept) frames_.pop_front();
     published_.notify_all();

@@ -27,9 +27,10 @@ void EstimatorStage::run(Channel<PipelineFrame>& in, Channel<PipelineFrame>* vie
       f.backend_ms = data::msSince(t0);
       stats_.backend_ms.push_back(f.backend_ms);
       if (biases) {
-        std::optional<Eigen::Vector3d> v_B;
-        if (state) v_B = state->q_W_B.conjugate() * state->v_W;
-        biases->publish(estimator_->gyroBias(), v_B);
+        std::optional<vio::NavState> after;
+        if (state) after = vio::NavState{state->t_ns, state->q_W_B, state->p_W_B, state->v_W, state->gyro_bias,
+                                         state->accel_bias};
+        biases->publish(estimator_->gyroBias(), after, f.frame.t_ns);
       }
       if (state) {
         data::StampedPose p;

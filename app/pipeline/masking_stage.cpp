@@ -16,7 +16,7 @@ namespace adugs::app {
 
 MaskingStage::MaskingStage(const MaskingOptions& options, const data::CameraModel& camera,
                            const Eigen::Isometry3d& T_B_C)
-    : options_(options), camera_(camera), R_B_C_(T_B_C.rotation()) {
+    : options_(options), camera_(camera), T_B_C_(T_B_C), R_B_C_(T_B_C.rotation()) {
   if (options_.source == MaskSource::kGroundTruth && options_.mask_dir.empty())
     throw data::InputError("--mask", 0, "mask",
                            "--mask gt needs the simulator's mav0/mask0/data folder, which this sequence does not have");
@@ -58,16 +58,31 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   if (compensate || motion_) {
     for (const data::ImuSample& s : f->imu) gyro_.addImu(s);
   }
+  if (motion_) {
+    for (const data::ImuSample& s : f->imu) imu_.addImu(s);
+    recent_frames_.push_back(frame.t_ns);
+    if (recent_frames_.size() > static_cast<size_t>(kBiasDelay) + 1) recent_frames_.pop_front();
+  }
   // The gyro's rotation since the previous frame (the identity without an IMU), and for the
-  // motion cue the camera's velocity three frames ago (its direction changes little in 0.1 s).
+  // motion cue the camera's mean velocity since then, in this frame's camera axes.
   Eigen::Matrix3d R_Ccur_Cprev = Eigen::Matrix3d::Identity();
   std::optional<Eigen::Vector3d> v_C;
+  const double dt_s = previous_t >= 0 ? (frame.t_ns - previous_t) * 1e-9 : 0.0;
   if ((compensate || motion_) && previous_t >= 0) {
     EstimatorFeedback::AfterFrame after;
     if (biases && !biases->waitFor(f->index - kBiasDelay, &after)) return false;
     R_Ccur_Cprev = gyro_.cameraRotation(previous_t, frame.t_ns, after.gyro_bias, R_B_C_).transpose();
-    if (after.v_B) v_C = R_B_C_.transpose() * *after.v_B;
+    if (motion_ && after.state && dt_s > 0) {
+      // The stamps on the IMU clock the state's (camera stamp + the estimator's time offset).
+      const int64_t offset = after.state->t_ns - after.frame_t_ns;
+      const vio::NavState at_previous = imu_.predict(*after.state, previous_t + offset);
+      const vio::NavState now = imu_.predict(at_previous, frame.t_ns + offset);
+      v_C = vio::cameraDisplacement(at_previous, now, T_B_C_) / dt_s;
+    }
   }
+  // What the next frames' predictions start from: the state after frame k + 1 - kBiasDelay, whose
+  // camera stamp is the oldest kept; half a second for the time offset.
+  if (motion_) imu_.dropBefore(recent_frames_.front() - 500'000'000);
   if (compensate && previous_t >= 0) {
     // The rotation moves every static pixel; SORT removes it.
     masker_->compensateCameraMotion([&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
@@ -83,7 +98,7 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   std::vector<tracking::Detection> prompts;
   std::vector<tracking::PointPrompt> points;
   if (motion_) {
-    prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C, previous_t >= 0 ? (frame.t_ns - previous_t) * 1e-9 : 0.0);
+    prompts = motion_->detect(frame.image, R_Ccur_Cprev, v_C, dt_s);
     masker_->setStaticObjects(object_motion_.staticIds());  // judged up to the previous frame
     points = tracking::cuePointPrompts(motion_->points());
   }

@@ -8,8 +8,11 @@
 // frames it ran on) and the cue's together on every frame.
 // The motion cue, and the masker's camera-motion compensation when on, take the gyro rotation
 // since the previous frame with the estimator's bias after frame k - 3 (app/pipeline/estimator_feedback.h): one frame further
-// back than the front-end's, so this stage can work a frame ahead of it.
+// back than the front-end's, so this stage can work a frame ahead of it. The cue's translation
+// between frames k - 1 and k is the estimator's state after frame k - 3 carried to both by the IMU
+// (vio/imu/imu_state_predictor.h): the velocity three frames old turns with the platform.
 #include <Eigen/Geometry>
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -24,6 +27,7 @@
 #include "tracking/detect/motion_cue.h"
 #include "tracking/dynamic_masker.h"
 #include "vio/imu/gyro_rotation_predictor.h"
+#include "vio/imu/imu_state_predictor.h"
 
 namespace adugs::app {
 
@@ -62,11 +66,14 @@ class MaskingStage {
 
   MaskingOptions options_;
   data::CameraModel camera_;
+  Eigen::Isometry3d T_B_C_;
   Eigen::Matrix3d R_B_C_;
   std::unique_ptr<tracking::DynamicMasker> masker_;
   std::unique_ptr<tracking::MotionCue> motion_;
   tracking::ObjectMotionClassifier object_motion_;  // with the cue: which tracked objects stay still
   vio::GyroRotationPredictor gyro_;
+  vio::ImuStatePredictor imu_;        // with the cue: the estimator's state carried to this frame
+  std::deque<int64_t> recent_frames_;  // stamps of the last kBiasDelay + 1 frames (what imu_ keeps)
   // The movers' boxes per frame number (1-based, as in the MOT file) and the frame number of each
   // exact mask's file name (the files in name order, one per frame).
   std::map<int, std::vector<data::MotBox>> objects_;

@@ -121,19 +121,25 @@ TEST(EstimatorFeedback, WaitsForTheFrameAskedForAndStopsWhenClosed) {
   estimator.join();
 }
 
-TEST(EstimatorFeedback, CarriesTheVelocityOnceThereIsOne) {
+TEST(EstimatorFeedback, CarriesTheStateOnceThereIsOne) {
   EstimatorFeedback feedback;
-  feedback.publish(Eigen::Vector3d(0.1, 0, 0));  // not initialised yet
-  feedback.publish(Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(1, 2, 3));
+  feedback.publish(Eigen::Vector3d(0.1, 0, 0), std::nullopt, 100);  // not initialised yet
+  vio::NavState state;
+  state.t_ns = 205;  // the camera stamp 200 + a 5 ns time offset
+  state.v_W = Eigen::Vector3d(1, 2, 3);
+  feedback.publish(Eigen::Vector3d(0.2, 0, 0), state, 200);
   EstimatorFeedback::AfterFrame after;
   ASSERT_TRUE(feedback.waitFor(0, &after));
-  EXPECT_FALSE(after.v_B.has_value());
+  EXPECT_FALSE(after.state.has_value());
+  EXPECT_EQ(after.frame_t_ns, 100);
   ASSERT_TRUE(feedback.waitFor(1, &after));
   EXPECT_EQ(after.gyro_bias, Eigen::Vector3d(0.2, 0, 0));
-  ASSERT_TRUE(after.v_B.has_value());
-  EXPECT_EQ(*after.v_B, Eigen::Vector3d(1, 2, 3));
+  ASSERT_TRUE(after.state.has_value());
+  EXPECT_EQ(after.state->v_W, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(after.state->t_ns, 205);
+  EXPECT_EQ(after.frame_t_ns, 200);
   ASSERT_TRUE(feedback.waitFor(-3, &after));  // before any estimate
-  EXPECT_FALSE(after.v_B.has_value());
+  EXPECT_FALSE(after.state.has_value());
   EXPECT_EQ(after.gyro_bias, Eigen::Vector3d::Zero());
 }
 
