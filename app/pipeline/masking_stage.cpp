@@ -10,6 +10,7 @@
 #include "data/elapsed_time.h"
 #include "data/input_error.h"
 #include "data/sources/ground_truth_mask.h"
+#include "tracking/eval/mask_overlap.h"
 #include "tracking/segment/segmenter_factory.h"
 
 namespace adugs::app {
@@ -115,40 +116,37 @@ bool MaskingStage::process(PipelineFrame* f, EstimatorFeedback* biases) {
   f->objects = r.objects;
   if (!options_.mask_dir.empty()) {
     const cv::Mat exact = loadGroundTruthMask(options_.mask_dir, frame);
-    f->exact_pixels = cv::countNonZero(exact);
-    f->exact_covered = cv::countNonZero(exact & r.mask);
-    f->masked_pixels = cv::countNonZero(r.mask);
+    const tracking::MaskOverlap whole = tracking::maskOverlap(exact, r.mask);
+    f->exact_pixels = static_cast<double>(whole.exact);
+    f->exact_covered = static_cast<double>(whole.covered);
+    f->masked_pixels = static_cast<double>(whole.masked);
     // Per mover class: the exact pixels inside the class's boxes (a pixel in boxes of two classes
     // counts for both).
     const auto frame_number = frame_of_mask_.find(std::filesystem::path(frame.path).filename().string());
     const auto boxes = frame_number == frame_of_mask_.end() ? objects_.end() : objects_.find(frame_number->second);
     if (boxes != objects_.end()) {
-      std::map<int, cv::Mat> in_boxes;
+      std::map<int, std::vector<cv::Rect>> by_class;
       for (const data::MotBox& b : boxes->second) {
         if (b.confidence == 0) continue;  // the simulator's standing objects (MOT's "ignore"): no movers
-        cv::Mat& area = in_boxes[b.class_id];
-        if (area.empty()) area = cv::Mat::zeros(exact.size(), CV_8UC1);
-        const cv::Rect rect = cv::Rect(cv::Point(static_cast<int>(b.left), static_cast<int>(b.top)),
-                                       cv::Size(static_cast<int>(b.width), static_cast<int>(b.height))) &
-                              cv::Rect(0, 0, exact.cols, exact.rows);
-        area(rect).setTo(255);
+        by_class[b.class_id].emplace_back(cv::Point(static_cast<int>(b.left), static_cast<int>(b.top)),
+                                          cv::Size(static_cast<int>(b.width), static_cast<int>(b.height)));
       }
-      for (const auto& [cls, area] : in_boxes) {
-        const cv::Mat exact_in = exact & area;
-        f->exact_by_class[cls] = {cv::countNonZero(exact_in), cv::countNonZero(exact_in & r.mask)};
+      for (const auto& [cls, rects] : by_class) {
+        const tracking::MaskOverlap o = tracking::maskOverlapInBoxes(exact, r.mask, rects);
+        f->exact_by_class[cls] = {static_cast<double>(o.exact), static_cast<double>(o.covered)};
       }
     }
     if (motion_ && f->detections) {
       // Both cues prompt the one mask: each cue is credited with the mask inside its boxes.
-      cv::Mat motion_boxes = cv::Mat::zeros(r.mask.size(), CV_8UC1), detector_boxes = motion_boxes.clone();
+      std::vector<cv::Rect> motion_boxes, detector_boxes;
       for (const tracking::TrackedObject& o : r.objects)
-        cv::rectangle(o.class_id == tracking::kMovingClass ? motion_boxes : detector_boxes, o.box.rect(),
-                      cv::Scalar(255), cv::FILLED);
-      const cv::Mat by_motion = r.mask & motion_boxes, by_detector = r.mask & detector_boxes;
-      f->masked_motion = cv::countNonZero(by_motion);
-      f->exact_covered_motion = cv::countNonZero(exact & by_motion);
-      f->masked_detector = cv::countNonZero(by_detector);
-      f->exact_covered_detector = cv::countNonZero(exact & by_detector);
+        (o.class_id == tracking::kMovingClass ? motion_boxes : detector_boxes).push_back(cv::Rect(o.box.rect()));
+      const tracking::MaskOverlap by_motion = tracking::maskOverlapInBoxes(exact, r.mask, motion_boxes);
+      const tracking::MaskOverlap by_detector = tracking::maskOverlapInBoxes(exact, r.mask, detector_boxes);
+      f->masked_motion = static_cast<double>(by_motion.masked);
+      f->exact_covered_motion = static_cast<double>(by_motion.covered);
+      f->masked_detector = static_cast<double>(by_detector.masked);
+      f->exact_covered_detector = static_cast<double>(by_detector.covered);
     }
   }
   return true;

@@ -16,7 +16,8 @@
 #include "vio/imu/imu_state_predictor.h"
 
 namespace adugs::vio {
-namespace {
+// Named, not anonymous: the sanitizer stage's unity build puts several test files in one unit.
+namespace imu_state_predictor_test {
 
 // 200 Hz over 0.2 s of a level body: specific force f_B (gravity's reaction included), rate omega.
 ImuStatePredictor constantImu(const Eigen::Vector3d& f_B, const Eigen::Vector3d& omega) {
@@ -144,5 +145,5 @@ TEST(ImuStatePredictor, GivesTheMotionCueTheDirectionOfTravelOnEurocV101) {
   EXPECT_LT(p90(carried), p90(held) / 2) << "carrying the state must beat the velocity three frames old";
 }
 
-}  // namespace
+}  // namespace imu_state_predictor_test
 }  // namespace adugs::vio
