@@ -196,6 +196,26 @@ TEST(ImuPreintegration, InterpolateImuIsLinearInTime) {
   EXPECT_THROW(interpolateImu(a, b, 301), std::invalid_argument);
 }
 
+TEST(ImuPreintegration, ReadingAtATimeInterpolatesInsideAndHoldsOutsideTheBuffer) {
+  std::deque<data::ImuSample> samples(3);
+  for (int k = 0; k < 3; ++k) {
+    samples[k].t_ns = 100 * (k + 1);  // 100, 200, 300
+    samples[k].gyro = Eigen::Vector3d::Constant(k);
+    samples[k].accel = Eigen::Vector3d(10.0 * k, 0, 0);
+  }
+  const data::ImuSample between = imuReadingAt(samples, 225);
+  EXPECT_EQ(between.t_ns, 225);
+  EXPECT_TRUE(between.gyro.isApprox(Eigen::Vector3d::Constant(1.25)));
+  EXPECT_TRUE(between.accel.isApprox(Eigen::Vector3d(12.5, 0, 0)));
+  EXPECT_EQ(imuReadingAt(samples, 200).gyro, Eigen::Vector3d::Constant(1));  // on a sample
+  const data::ImuSample before = imuReadingAt(samples, 40), after = imuReadingAt(samples, 370);
+  EXPECT_EQ(before.t_ns, 40);
+  EXPECT_EQ(before.gyro, Eigen::Vector3d::Constant(0));  // the first held
+  EXPECT_EQ(after.t_ns, 370);
+  EXPECT_EQ(after.accel, Eigen::Vector3d(20, 0, 0));  // the last held
+  EXPECT_THROW(imuReadingAt({}, 100), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace adugs::vio
 

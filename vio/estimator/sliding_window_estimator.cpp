@@ -68,25 +68,7 @@ void SlidingWindowEstimator::addImu(const data::ImuSample& s) {
   imu_.push_back(s);
 }
 
-data::ImuSample SlidingWindowEstimator::imuAt(int64_t t_ns) const {
-  // Last sample at or before t, and the first after it.
-  auto after = std::upper_bound(imu_.begin(), imu_.end(), t_ns,
-                                [](int64_t t, const data::ImuSample& s) { return t < s.t_ns; });
-  if (after == imu_.begin()) {  // before the buffer: hold the first sample
-    data::ImuSample s = imu_.front();
-    s.t_ns = t_ns;
-    return s;
-  }
-  const data::ImuSample& a = *std::prev(after);
-  if (a.t_ns == t_ns) return a;
-  if (after ==
-      imu_.end()) {  // the sample after t has not arrived: hold the last one (< 1 IMU period)
-    data::ImuSample s = a;
-    s.t_ns = t_ns;
-    return s;
-  }
-  return interpolateImu(a, *after, t_ns);
-}
+data::ImuSample SlidingWindowEstimator::imuAt(int64_t t_ns) const { return imuReadingAt(imu_, t_ns); }
 
 std::shared_ptr<ImuPreintegration> SlidingWindowEstimator::preintegrate(
     int64_t from_ns, int64_t to_ns, const Eigen::Vector3d& ba, const Eigen::Vector3d& bg) const {

@@ -1,5 +1,8 @@
 #include "vio/imu/imu_preintegration.h"
 
+#include <algorithm>
+#include <iterator>
+
 #include <Eigen/Cholesky>
 #include <stdexcept>
 
@@ -162,6 +165,19 @@ data::ImuSample interpolateImu(const data::ImuSample& a, const data::ImuSample& 
   out.gyro = (1.0 - s) * a.gyro + s * b.gyro;
   out.accel = (1.0 - s) * a.accel + s * b.accel;
   return out;
+}
+
+data::ImuSample imuReadingAt(const std::deque<data::ImuSample>& samples, int64_t t_ns) {
+  if (samples.empty()) throw std::invalid_argument("imuReadingAt: no IMU samples");
+  // The first sample after t, and the last at or before it.
+  const auto after = std::upper_bound(samples.begin(), samples.end(), t_ns,
+                                      [](int64_t t, const data::ImuSample& s) { return t < s.t_ns; });
+  data::ImuSample held;
+  if (after == samples.begin()) held = samples.front();
+  else if (after == samples.end() || std::prev(after)->t_ns == t_ns) held = *std::prev(after);
+  else return interpolateImu(*std::prev(after), *after, t_ns);
+  held.t_ns = t_ns;
+  return held;
 }
 
 }  // namespace adugs::vio

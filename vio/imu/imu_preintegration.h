@@ -10,6 +10,7 @@
 // white-noise draw on the midpoint measurement with discrete covariance density^2 / dt (what an
 // IMU sampled at 1/dt delivers), and the biases random-walk with covariance random_walk^2 * dt.
 // (VINS-Mono instead puts density^2 on each end of the interval; see doc/estimator.md.)
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -106,5 +107,10 @@ class ImuPreintegration {
 // Linear interpolation of two samples at t_ns (a.t_ns <= t_ns <= b.t_ns), to start or end a
 // preintegration exactly at a camera time.
 data::ImuSample interpolateImu(const data::ImuSample& a, const data::ImuSample& b, int64_t t_ns);
+
+// The reading at t_ns of a buffer of samples in increasing time: interpolated between the samples
+// around it, the first or last held before or after the buffer (under an IMU period at a frame's
+// edge). std::invalid_argument for an empty buffer.
+data::ImuSample imuReadingAt(const std::deque<data::ImuSample>& samples, int64_t t_ns);
 
 }  // namespace adugs::vio

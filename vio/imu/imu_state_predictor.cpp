@@ -4,7 +4,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "vio/imu/imu_preintegration.h"  // interpolateImu
+#include "vio/imu/imu_preintegration.h"  // imuReadingAt
 
 namespace adugs::vio {
 
@@ -14,32 +14,21 @@ void ImuStatePredictor::addImu(const data::ImuSample& sample) {
   samples_.push_back(sample);
 }
 
-data::ImuSample ImuStatePredictor::readingAt(int64_t t_ns) const {
-  auto after = std::upper_bound(samples_.begin(), samples_.end(), t_ns,
-                                [](int64_t t, const data::ImuSample& s) { return t < s.t_ns; });
-  data::ImuSample held;
-  if (after == samples_.begin()) held = samples_.front();
-  else if (after == samples_.end() || std::prev(after)->t_ns == t_ns) held = *std::prev(after);
-  else return interpolateImu(*std::prev(after), *after, t_ns);
-  held.t_ns = t_ns;
-  return held;
-}
-
 NavState ImuStatePredictor::predict(const NavState& from, int64_t to_ns) const {
   if (samples_.empty() || to_ns <= from.t_ns) return from;
   NavState state = from;
-  data::ImuSample previous = readingAt(from.t_ns);
+  data::ImuSample previous = imuReadingAt(samples_, from.t_ns);
   auto first = std::upper_bound(samples_.begin(), samples_.end(), from.t_ns,
                                 [](int64_t t, const data::ImuSample& s) { return t < s.t_ns; });
   for (auto it = first; it != samples_.end() && it->t_ns < to_ns; ++it) {
     state = propagateMidpoint(state, previous, *it);
     previous = *it;
   }
-  return propagateMidpoint(state, previous, readingAt(to_ns));
+  return propagateMidpoint(state, previous, imuReadingAt(samples_, to_ns));
 }
 
 void ImuStatePredictor::dropBefore(int64_t t_ns) {
-  // Keep the last sample at or before t: readingAt(t) interpolates from it.
+  // Keep the last sample at or before t: the reading at t interpolates from it.
   while (samples_.size() > 1 && samples_[1].t_ns <= t_ns) samples_.pop_front();
 }
 

@@ -29,7 +29,6 @@ class ImuStatePredictor {
   size_t size() const { return samples_.size(); }
 
  private:
-  data::ImuSample readingAt(int64_t t_ns) const;
   std::deque<data::ImuSample> samples_;
 };
 
