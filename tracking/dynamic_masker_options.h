@@ -4,7 +4,7 @@
 // config, `adugs track --config` from the same file; command-line flags only override fields.
 //   detect_every, tracker: sort | none, noise: adaptive | fixed, SORT's max_age / min_hits /
 //   iou_min, the adaptive noise's lambda / beta_pos / beta_size / window, erode_radius_px /
-//   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 3 for GrabCut, 10 for MobileSAM),
+//   dilate_radius_px, min_box_side_px, segment_every (0 = auto: 2 for GrabCut, 10 for MobileSAM),
 //   segment_async, camera_motion_compensation, appearance_weight, and the association stages
 //   high_score / low_iou_min / drop_unconfirmed / last_box_association / direction_weight /
 //   direction_frames / recovery; and the map motion_cue: of the class-free motion cue's options
@@ -37,7 +37,7 @@ struct DynamicMaskerOptions {
   // SORT" ablation); needs detect_every = 1.
   bool track = true;
   // Frames between a track's box-segmenter runs, its mask carried by its tracked box in between
-  // (tracking/segment/sparse_segmenter.h); 0 = automatic (BoxSegmenter::refreshEvery: every 3rd
+  // (tracking/segment/sparse_segmenter.h); 0 = automatic (BoxSegmenter::refreshEvery: every 2nd
   // frame for GrabCut, every 10th for MobileSAM, every frame for filled boxes). 1 = every frame.
   int segment_every = 0;
   bool segment_async = true;  // a slow segmenter's sparse runs on a worker thread (false: inline, reproducible)

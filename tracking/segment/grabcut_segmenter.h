@@ -34,9 +34,12 @@ class GrabCutSegmenter : public BoxSegmenter {
   cv::Mat segmentWithPoints(const cv::Mat& image, const std::vector<Box>& boxes,
                             const std::vector<PointPrompt>& points) override;
   const char* name() const override { return "grabcut"; }
-  // Each box's mask every 3rd frame: a third of the cost, the masks' recall unchanged over the
-  // motion cue's 9 benchmark sequences (doc/results.md, "The motion cue's cost").
-  int refreshEvery() const override { return 3; }
+  // Each box's mask every 2nd frame, carried by its box in between. Every 3rd frame (half the
+  // cost again) kept the masks' recall and precision, but on Table I's street the carried masks
+  // cost the motion cue 1.45x its ATE (median 0.070 -> 0.102 m over 8 seeds); every 2nd frame
+  // gives 0.69x every 3rd's there (0.98x in the room, 1.01x on the moving-box flights) for 1.03x
+  // the wall (doc/results.md, "Masks carried between GrabCut runs").
+  int refreshEvery() const override { return 2; }
   // How many boxes fell back to the filled box in the last call.
   int lastFallbacks() const { return fallbacks_; }
 
