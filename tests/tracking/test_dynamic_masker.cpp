@@ -283,13 +283,14 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_EQ(o.motion_cue.cell_px, MotionCueOptions().cell_px);  // no motion_cue: map: the code's
 
   data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
-      "motion_cue:\n  cell_px: 32\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
+      "motion_cue:\n  cell_px: 32\n  klt_pyramid_levels: 4\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
       "  translation_min_gain: 0.2\n"
       "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 4\n  box_margin: 0.2\n",
       "dynamic.yaml");
   readDynamicMaskerOptions(cue, &o);
   cue.finish();
   EXPECT_EQ(o.motion_cue.cell_px, 32);
+  EXPECT_EQ(o.motion_cue.klt_pyramid_levels, 4);
   EXPECT_DOUBLE_EQ(o.motion_cue.corner_quality, 0.01);
   EXPECT_DOUBLE_EQ(o.motion_cue.threshold_px, 2.5);
   EXPECT_DOUBLE_EQ(o.motion_cue.strong_threshold_px, 6);

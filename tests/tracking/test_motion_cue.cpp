@@ -189,12 +189,48 @@ TEST(MotionCue, ClearMotionCountsFromAPointsFirstResidual) {
   }
 }
 
+// A fast mover (the panel 0.2 m per frame at 3 m: ~30 px per frame, a car passing near the
+// camera) is beyond KLT's reach with two pyramid levels (~22 px for an 11 px window): its points
+// are lost every frame and never get a residual. Three levels (the default) follow it.
+TEST(MotionCue, FastMoverIsFollowedWithThreePyramidLevels) {
+  const Scene scene;
+  int boxed[2] = {0, 0}, frames = 0;
+  for (const int levels : {2, 3}) {
+    MotionCueOptions options;
+    options.klt_pyramid_levels = levels;
+    MotionCue cue(kCamera, options);
+    frames = 0;
+    for (int k = 0; k < 9; ++k) {
+      cv::Mat panel_mask;
+      const cv::Mat image = scene.render(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.3, 0, 0),
+                                         Eigen::Vector2d(-1.6 + 0.2 * k, -0.2), &panel_mask);
+      const std::vector<Detection> boxes = cue.detect(image, Eigen::Matrix3d::Identity());
+      if (k < 3) continue;
+      ++frames;
+      const double panel_pixels = std::max(1, cv::countNonZero(panel_mask));
+      for (const Detection& d : boxes) {
+        const cv::Rect r = cv::Rect(d.box.rect()) & cv::Rect(0, 0, 752, 480);
+        if (cv::countNonZero(panel_mask(r)) / panel_pixels >= 0.5) {
+          ++boxed[levels - 2];
+          break;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(MotionCueOptions{}.klt_pyramid_levels, 3);
+  EXPECT_LE(boxed[0], frames / 2) << "two levels were expected to lose the panel";
+  EXPECT_GE(boxed[1], frames - 1);
+}
+
 TEST(MotionCue, BadInputsAreRejected) {
   MotionCue cue(kCamera);
   EXPECT_THROW(cue.detect(cv::Mat(480, 752, CV_32FC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);
   EXPECT_THROW(cue.detect(cv::Mat(600, 800, CV_8UC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);
   MotionCueOptions o;
   o.min_points = 0;
+  EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
+  o = MotionCueOptions{};
+  o.klt_pyramid_levels = -1;
   EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
   // A blank frame has no corners: no points, no boxes, no failure.
   const cv::Mat blank(480, 752, CV_8UC1, cv::Scalar(90));

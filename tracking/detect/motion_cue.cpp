@@ -42,10 +42,10 @@ MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& op
       focal_px_(camera.centreFocalPx()),
       grid_cols_((camera.width() + options.cell_px - 1) / std::max(1, options.cell_px)),
       grid_rows_((camera.height() + options.cell_px - 1) / std::max(1, options.cell_px)) {
-  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.min_points < 1 || options_.threshold_px <= 0 ||
+  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.klt_pyramid_levels < 0 || options_.min_points < 1 || options_.threshold_px <= 0 ||
       options_.strong_threshold_px < options_.threshold_px || options_.group_radius_px <= 0 ||
       options_.ransac_iterations < 1 || options_.corner_quality <= 0)
-    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, min_points >= 1 and positive thresholds, radius, quality and iterations");
+    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, klt_pyramid_levels >= 0, min_points >= 1 and positive thresholds, radius, quality and iterations");
 }
 
 std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
@@ -62,7 +62,7 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   translating_ = false;
   // Pyramids are built once per frame and kept for the next one.
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
-  const int levels = 2;
+  const int levels = options_.klt_pyramid_levels;
   std::vector<cv::Mat> pyramid;
   cv::buildOpticalFlowPyramid(grey, pyramid, window, levels);
   if (previous_pyramid_.empty() || previous_pyramid_[0].size() != grey.size()) {
