@@ -318,6 +318,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   expectRefused("grabcut:\n  max_side: 8\n", "max_side");
   expectRefused("grabcut:\n  iterations: 0\n", "iterations");
   expectRefused("grabcut:\n  max_sides: 64\n", "max_sides");
+  expectRefused("motion_cue:\n  klt_pyramid_levels: 7\n", "klt_pyramid_levels");  // beyond a 752 px image's pyramid
   expectRefused("motion_cue:\n  threshold_px: 0\n", "threshold_px");
   expectRefused("motion_cue:\n  threshhold_px: 2\n", "threshhold_px");
   expectRefused("motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n", "strong_threshold_px");
