@@ -98,7 +98,10 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
         << "frames_without_imu: " << es.frames_without_imu << "\n"
         << "outliers_rejected: " << es.outliers_rejected << "\n"
         << "init_kind: " << (es.init_kind.empty() ? "none" : es.init_kind) << "\n"
-        << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - r.first_t_ns) : -1.0) << "\n";
+        << "init_time_s: " << (es.init_t_ns >= 0 ? data::nsToSec(es.init_t_ns - r.first_t_ns) : -1.0) << "\n"
+        << "init_scale_relative_std: " << es.init_scale_relative_std
+        << "  # the visual-inertial alignment's scale uncertainty (-1: none or static)\n"
+        << "init_refused_uncertain_scale: " << es.init_refused_uncertain_scale << "\n";
     const double guard_s = estimator->options().max_solver_time_s;  // playback: lifted (pipelineOptions)
     if (std::isfinite(guard_s))
       out << "solver_time_guard_s: " << guard_s << "\n";

@@ -80,6 +80,10 @@ TEST_F(CmdRunVioSim, GroundTruthMasksRunEndToEndWithSummary) {
   const auto traj = data::readTrajectory((out / "trajectory.tum").string());
   EXPECT_GT(traj.size(), 90u);
   EXPECT_NE(log.find("ATE (se3)"), std::string::npos) << log;
+  // The initialisation's scale uncertainty is reported, and sim.yaml's check accepted it.
+  const double scale_std = summaryNumber(out / "summary.yaml", "init_scale_relative_std");
+  EXPECT_GT(scale_std, 0.0) << summary;
+  EXPECT_LE(scale_std, 0.5) << summary;
 }
 
 // The class-free motion cue alone prompts the masks (no model): in the room the people and boxes
@@ -383,6 +387,8 @@ TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
   expectRefused("outlier.yaml", "estimator:\n  outlier_reprojection_px: -1\n",
                 "outlier_reprojection_px");
   expectRefused("init_window.yaml", "estimator:\n  init_window_size: 6\n", "init_window_size");
+  expectRefused("init_scale.yaml", "estimator:\n  init:\n    max_scale_relative_std: -0.1\n",
+                "max_scale_relative_std");
 }
 
 }  // namespace

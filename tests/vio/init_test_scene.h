@@ -37,6 +37,10 @@ struct InitSceneOptions {
   bool static_imu = false;  // IMU of a body at rest at the first pose (images still move)
   int points = 200;
   uint64_t seed = 7;
+  // The first moving_points of the points move at this constant world velocity (a crowd walking
+  // past): the SfM then fits their motion as well as the camera's.
+  int moving_points = 0;
+  Eigen::Vector3d moving_velocity_W = Eigen::Vector3d::Zero();
 };
 
 inline data::SineTrajectory sceneTrajectory(double translation_gain, double rotation_gain) {
@@ -108,7 +112,8 @@ inline InitScene makeInitScene(const InitSceneOptions& options = {}) {
     const Eigen::Isometry3d T_W_B = Eigen::Translation3d(body.p_W_B) * body.q_W_B;
     const Eigen::Isometry3d T_C_W = (T_W_B * scene.T_B_C).inverse();
     for (const auto& [id, p_W] : scene.points_W) {
-      const Eigen::Vector3d p_C = T_C_W * p_W;
+      const double moved_s = id < options.moving_points ? data::nsToSec(frame.t_ns - kSceneT0) : 0.0;
+      const Eigen::Vector3d p_C = T_C_W * (p_W + moved_s * options.moving_velocity_W);
       if (p_C.z() < 0.5) continue;
       Eigen::Vector2d x = p_C.head<2>() / p_C.z();
       if (std::abs(x.x()) > 0.8 || std::abs(x.y()) > 0.52) continue;  // 752x480 at f = 460

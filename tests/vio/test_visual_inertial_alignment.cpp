@@ -172,5 +172,48 @@ TEST(VisualInertialAlignment, LinearSolveAndGravityRefinementOnExactWindow) {
   EXPECT_FALSE(refineGravity(frames, scene.T_B_C, Eigen::Vector3d::Zero(), 4, &refined));
 }
 
+TEST(VisualInertialAlignment, LeastSquaresStdByHand) {
+  // Line y = a + s t through (0, 0), (1, 1), (2, 3): s = 1.5, a = -1/6, residuals (1/6, -1/3,
+  // 1/6), sigma^2 = (1/36 + 1/9 + 1/36) / (3 - 2) = 1/6, var(s) = sigma^2 / sum (t - 1)^2 = 1/12.
+  Eigen::MatrixXd A(3, 2);
+  A << 1, 0, 1, 1, 1, 2;
+  const Eigen::Vector3d b(0, 1, 3);
+  const Eigen::Vector2d x(-1.0 / 6.0, 1.5);
+  EXPECT_NEAR(leastSquaresStd(A, b, x, 1), std::sqrt(1.0 / 12.0), 1e-12);
+  // var(a) = sigma^2 (1/n + mean(t)^2 / sum (t - 1)^2) = 1/6 (1/3 + 1/2) = 5/36.
+  EXPECT_NEAR(leastSquaresStd(A, b, x, 0), std::sqrt(5.0 / 36.0), 1e-12);
+  // No redundancy: nothing to estimate the noise from.
+  EXPECT_EQ(leastSquaresStd(A.topRows(2), b.head<2>(), x, 1), 0.0);
+  // Two equal columns: the unknown is undetermined.
+  Eigen::MatrixXd same(3, 2);
+  same << 1, 1, 1, 1, 1, 1;
+  EXPECT_TRUE(std::isinf(leastSquaresStd(same, b, x, 1)));
+}
+
+TEST(VisualInertialAlignment, ScaleStdIsSmallOnAnExactWindowAndGrowsWithDisagreement) {
+  const test::InitScene scene = test::makeInitScene();
+  const double true_scale = 0.37;
+  auto frames = trueFrames(scene, true_scale);
+  const Eigen::Vector3d g_c0 = (scene.truth[0].q_W_B.toRotationMatrix() * scene.T_B_C.rotation())
+                                   .transpose() * Eigen::Vector3d(0, 0, -9.81);
+  LinearAlignment exact;
+  ASSERT_TRUE(refineGravity(frames, scene.T_B_C, g_c0, 4, &exact));
+  EXPECT_LT(exact.scale_std / exact.scale, 1e-3);
+
+  // SfM positions that do not follow the IMU (a few centimetres of zig-zag, as a window tracking
+  // moving objects gives): the fit degrades and says so; twice the disagreement, about twice the std.
+  auto shaken = [&](double amplitude) {
+    auto moved = frames;
+    for (size_t k = 1; k < moved.size(); ++k)
+      moved[k].p_c0_c += (k % 2 ? amplitude : -amplitude) * Eigen::Vector3d(1, -0.5, 0.3) / true_scale;
+    LinearAlignment out;
+    EXPECT_TRUE(refineGravity(moved, scene.T_B_C, g_c0, 4, &out));
+    return out.scale_std / out.scale;
+  };
+  const double small = shaken(0.01), large = shaken(0.02);
+  EXPECT_GT(small, 20 * exact.scale_std / exact.scale);
+  EXPECT_NEAR(large / small, 2.0, 0.5);
+}
+
 }  // namespace
 }  // namespace adugs::vio

@@ -62,6 +62,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
     s.optional("min_parallax_px", o->init.min_parallax_px, 0.0, 1000.0);
     s.optional("max_reprojection_px", o->init.max_reprojection_px, 0.01, 100.0);
     s.optional("min_imu_excitation", o->init.min_imu_excitation, 0.0, 100.0);
+    s.optional("max_scale_relative_std", o->init.max_scale_relative_std, 0.0, 100.0);
     s.finish();
   }
   if (o->init.min_frames > o->window_size) r.fail("init", "init.min_frames exceeds window_size");

@@ -200,8 +200,10 @@ bool SlidingWindowEstimator::tryInitialize() {
   const InitResult r = initializeVisualInertial(init_frames, T_B_C_iso_, options_.init);
   if (!r.success) {
     stats_.last_init_failure = r.failure_reason;
+    if (r.scale_relative_std > 0) ++stats_.init_refused_uncertain_scale;
     return false;
   }
+  if (stats_.init_scale_relative_std < 0) stats_.init_scale_relative_std = r.scale_relative_std;
   for (size_t k = 0; k < frames_.size(); ++k) {
     Frame& f = *frames_[k];
     setPose(r.poses[k].p_W_B, r.poses[k].q_W_B, f.pose);

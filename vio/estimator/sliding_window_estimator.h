@@ -62,6 +62,8 @@ struct EstimatorStats {
   std::string init_kind;     // "static" or "visual-inertial"
   std::string last_failure;  // why the last reset happened
   std::string last_init_failure;
+  double init_scale_relative_std = -1;  // of the first visual-inertial initialisation; -1 none
+  int init_refused_uncertain_scale = 0;  // windows refused by InitOptions::max_scale_relative_std
   int landmarks_in_last_solve = 0;
   int frames_without_imu = 0;  // skipped: no IMU sample within max_imu_gap_s of the frame
   int outliers_rejected = 0;   // landmarks removed for their reprojection error

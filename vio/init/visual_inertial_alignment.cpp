@@ -1,6 +1,8 @@
 #include "vio/init/visual_inertial_alignment.h"
 
 #include <Eigen/Dense>
+#include <cmath>
+#include <limits>
 
 #include "vio/imu/so3.h"
 #include "vio/init/static_initializer.h"
@@ -104,6 +106,7 @@ bool solveLinearAlignment(const std::vector<AlignmentFrame>& frames, const Eigen
   const Eigen::VectorXd x = qr.solve(b);
   if (!unpack(x, static_cast<int>(frames.size()), out)) return false;
   out->gravity_c0 = x.segment<3>(3 * frames.size());
+  out->scale_std = leastSquaresStd(A, b, x, A.cols() - 1);
   return true;
 }
 
@@ -134,6 +137,23 @@ Eigen::VectorXd alignmentResidual(const std::vector<AlignmentFrame>& frames,
   x.segment<3>(3 * n) = solution.gravity_c0;
   x(3 * n + 3) = solution.scale;
   return A * x - b;
+}
+
+double leastSquaresStd(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                       Eigen::Index unknown) {
+  const Eigen::Index redundancy = A.rows() - A.cols();
+  if (redundancy <= 0 || unknown < 0 || unknown >= A.cols() || x.size() != A.cols()) return 0.0;
+  const double sigma2 = (A * x - b).squaredNorm() / static_cast<double>(redundancy);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.transpose() * A);
+  // A zero pivot: LDLT would solve with a pseudo-inverse and report a finite variance.
+  const Eigen::VectorXd pivots = ldlt.vectorD().cwiseAbs();
+  if (ldlt.info() != Eigen::Success || !(pivots.minCoeff() > 1e-12 * pivots.maxCoeff()))
+    return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(A.cols());
+  e(unknown) = 1.0;
+  const double variance = sigma2 * e.dot(ldlt.solve(e));
+  return std::isfinite(variance) && variance >= 0 ? std::sqrt(variance)
+                                                  : std::numeric_limits<double>::infinity();
 }
 
 Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& g) {
@@ -168,6 +188,7 @@ bool refineGravity(const std::vector<AlignmentFrame>& frames, const Eigen::Isome
     if (qr.rank() < A_r.cols()) return false;
     const Eigen::VectorXd x = qr.solve(b_r);
     if (!unpack(x, n, out)) return false;
+    out->scale_std = leastSquaresStd(A_r, b_r, x, A_r.cols() - 1);
     g0 = (g0 + B * x.segment<2>(3 * n)).normalized() * kInitGravityNorm;
   }
   out->gravity_c0 = g0;

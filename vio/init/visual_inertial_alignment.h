@@ -37,6 +37,11 @@ struct LinearAlignment {
   std::vector<Eigen::Vector3d> velocities_body;  // v_k in b_k
   Eigen::Vector3d gravity_c0 = Eigen::Vector3d::Zero();
   double scale = 0;
+  // Standard deviation of the scale from the least-squares fit itself: sigma^2 (A^T A)^-1_ss with
+  // sigma^2 = |A x - b|^2 / (rows - unknowns). Large when the IMU barely accelerated (the scale
+  // column is nearly dependent on the others) or when the SfM trajectory and the IMU disagree (a
+  // window whose SfM followed moving objects); 0 when there is no redundancy to estimate it from.
+  double scale_std = 0;
 };
 
 // Unconstrained linear solve of [v_k, g_c0, s] (uses the preintegrations' deltaP/deltaV as they
@@ -58,6 +63,13 @@ bool refineGravity(const std::vector<AlignmentFrame>& frames, const Eigen::Isome
 // whose images move while the IMU does not) gives only the sensor noise; scale is then
 // unobservable.
 double imuExcitation(const std::vector<AlignmentFrame>& frames);
+
+// Standard deviation of unknown `unknown` of the least-squares solution x of A x = b, with the
+// noise level estimated from the fit: sqrt(sigma^2 (A^T A)^-1_uu), sigma^2 = |A x - b|^2 /
+// (rows - columns). 0 without redundancy (rows <= columns: nothing to estimate sigma from),
+// infinity on a singular A^T A (the unknown is undetermined).
+double leastSquaresStd(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                       Eigen::Index unknown);
 
 // Two unit vectors orthogonal to g and to each other (columns).
 Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& g);

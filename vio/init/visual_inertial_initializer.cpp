@@ -121,6 +121,14 @@ InitResult initialize(std::vector<InitFrame>& frames, const Eigen::Isometry3d& T
   if (!(refined.scale > options.min_scale))
     return fail("gravity refinement: scale " + number(refined.scale) + " not above the minimum " +
                 number(options.min_scale));
+  const double scale_relative_std = refined.scale_std / refined.scale;
+  if (options.max_scale_relative_std > 0 && scale_relative_std > options.max_scale_relative_std) {
+    fail("visual-inertial alignment: scale uncertain (std " + number(100 * scale_relative_std) +
+         " % of the scale, above " + number(100 * options.max_scale_relative_std) +
+         " %): the images and the IMU disagree or the IMU barely accelerated");
+    result.scale_relative_std = scale_relative_std;
+    return result;
+  }
 
   // 4. Gravity-aligned metric world: origin at the first body, first body yaw kept (zero).
   const double s = refined.scale;
@@ -147,6 +155,7 @@ InitResult initialize(std::vector<InitFrame>& frames, const Eigen::Isometry3d& T
   result.gyro_bias = gyro_bias;
   result.accel_bias = frames[1].imu_from_previous->linearizedAccelBias();
   result.scale = s;
+  result.scale_relative_std = scale_relative_std;
 
   for (const auto& pose : result.poses)
     if (!pose.p_W_B.allFinite() || !pose.q_W_B.coeffs().allFinite()) return fail("non-finite pose");
