@@ -18,11 +18,17 @@ struct SimArgs {
   std::string level = "high";
   std::string out;
   bool no_imu_noise = false;
+  std::vector<double> accel_bias;  // x y z, m/s^2
 };
 
 void runSim(SimArgs& a) {
   data::SimSequenceOptions o = a.options;
   o.imu.noise = !a.no_imu_noise;
+  if (!a.accel_bias.empty()) {
+    if (data::isHybrid(o))
+      throw data::InputError("command line", 0, "--accel-bias", "a hybrid sequence keeps the real IMU's own bias");
+    o.imu.initial_accel_bias = Eigen::Vector3d(a.accel_bias[0], a.accel_bias[1], a.accel_bias[2]);
+  }
   std::vector<data::SimLevel> levels;
   if (a.level == "all")
     levels = {data::SimLevel::kNone, data::SimLevel::kLow, data::SimLevel::kMid, data::SimLevel::kHigh};
@@ -72,6 +78,10 @@ void registerSimCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_option("--imu-rate", o.imu.rate_hz, "simulated IMU rate [Hz]")->capture_default_str();
   cmd->add_flag("--no-imu-noise", a->no_imu_noise, "exact IMU: no white noise, constant biases");
+  cmd->add_option("--accel-bias", a->accel_bias,
+                  "accelerometer turn-on bias X Y Z [m/s^2] (default 0 0 0); it random-walks from there")
+      ->expected(3)
+      ->delimiter(',');
   cmd->add_option("--time-offset", o.time_offset_s,
                   "camera-IMU time shift [s], Kalibr timeshift_cam_imu (t_imu = t_cam + shift)")
       ->capture_default_str();

@@ -135,6 +135,12 @@ std::string infoYaml(const SimSequenceOptions& o, const Prepared& p, const SimSc
   s << "timeshift_cam_imu: " << o.time_offset_s << "  # t_imu = t_cam + timeshift\n";
   s << "T_B_C: " << matrixYaml(p.T_B_C.matrix()) << "\n";
   s << "imu_noise: " << (isHybrid(o) ? "real" : (o.imu.noise ? "on" : "off")) << "\n";
+  if (!isHybrid(o)) {
+    const Eigen::Vector3d& b = o.imu.initial_accel_bias;
+    std::ostringstream v;  // as given, not at the stream's full precision
+    v << "[" << b.x() << ", " << b.y() << ", " << b.z() << "]";
+    s << "initial_accel_bias: " << v.str() << "  # m/s^2\n";
+  }
   s << "pixel_noise_sigma: " << o.pixel_noise_sigma << "\nexposure_variation: " << o.exposure_variation
     << "\nblur_samples: " << o.blur_samples << "\nexposure_ms: " << o.exposure_ms << "\nvignetting: " << o.vignetting
     << "\n";

@@ -24,6 +24,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("zero_velocity_sigma", o->zero_velocity_sigma, 1e-5, 10.0);
   r.optional("gyro_bias_at_rest", o->gyro_bias_at_rest);
   r.optional("static_init_accel_bias_sigma", o->static_init_accel_bias_sigma, 0.0, 10.0);
+  r.optional("vi_init_accel_bias_sigma", o->vi_init_accel_bias_sigma, 0.0, 10.0);
   r.optional("stationary_parallax_px", o->stationary_parallax_px, 0.0, 100.0);
   r.optional("first_estimate_jacobians", o->first_estimate_jacobians);
   r.optional("report_relative_covariance", o->report_relative_covariance);

@@ -39,6 +39,9 @@ struct EstimatorOptions {
   // At a static initialisation the accelerometer bias is held where it was found with this sigma
   // (m/s^2; 0 = free): at rest the tilt and the horizontal bias are one unknown (bias_prior_factor.h).
   double static_init_accel_bias_sigma = 0.05;
+  // The same prior on the first frame of a visual-inertial initialisation (m/s^2; 0 = free, as
+  // VINS-Mono): there the bias and the scale trade off when the IMU accelerates little.
+  double vi_init_accel_bias_sigma = 0.0;
   double stationary_parallax_px = 1.0;
   // First-estimate Jacobians (marginalization.h, linearizationPoint): the Jacobians on a frame in
   // the marginalisation prior are evaluated where the prior linearised it, so that the window

@@ -179,6 +179,7 @@ bool SlidingWindowEstimator::tryInitialize() {
       // initialisation put it (bias_prior_factor.h); marginalised with this frame into the prior.
       frames_.front()->has_accel_bias_prior = true;
       frames_.front()->accel_bias_prior = r.accel_bias;
+      frames_.front()->accel_bias_prior_sigma = options_.static_init_accel_bias_sigma;
     }
     stats_.init_kind = "static";
     if (!dead_reckoned_.empty()) continueFromDeadReckoning();
@@ -209,6 +210,15 @@ bool SlidingWindowEstimator::tryInitialize() {
     setPose(r.poses[k].p_W_B, r.poses[k].q_W_B, f.pose);
     setSpeedBias(r.velocities_W[k], r.accel_bias, r.gyro_bias, f.speed_bias);
     if (f.imu) f.imu->repropagate(r.accel_bias, r.gyro_bias);
+  }
+  if (options_.vi_init_accel_bias_sigma > 0) {
+    // In motion the accelerometer bias and the scale trade off when the IMU accelerates little:
+    // without a prior the window can move the bias by 0.2 m/s^2 and the scale by 20 % together,
+    // and the marginalisation prior then keeps both (doc/estimator.md). Held near the
+    // initialisation's value (zero, as VINS-Mono) with this sigma; marginalised with the frame.
+    frames_.front()->has_accel_bias_prior = true;
+    frames_.front()->accel_bias_prior = r.accel_bias;
+    frames_.front()->accel_bias_prior_sigma = options_.vi_init_accel_bias_sigma;
   }
   const auto T_W_C = cameraPoses();
   for (const auto& [id, p_W] : r.landmarks_W) landmarks_.setWorldPoint(id, p_W, T_W_C);
@@ -369,7 +379,7 @@ std::vector<std::unique_ptr<ceres::CostFunction>> SlidingWindowEstimator::restFa
 
 std::unique_ptr<ceres::CostFunction> SlidingWindowEstimator::accelBiasPrior(const Frame& f) const {
   return std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kAccel, f.accel_bias_prior,
-                                           Eigen::Vector3d::Constant(options_.static_init_accel_bias_sigma));
+                                           Eigen::Vector3d::Constant(f.accel_bias_prior_sigma));
 }
 
 void SlidingWindowEstimator::solve() {

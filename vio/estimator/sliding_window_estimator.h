@@ -124,8 +124,9 @@ class SlidingWindowEstimator {
     bool has_gyro_at_rest = false;       // stationary, with the gyro mean over its IMU interval:
     Eigen::Vector3d gyro_at_rest_mean;   // the bias it measured (bias_prior_factor.h)
     Eigen::Vector3d gyro_at_rest_sigma;
-    bool has_accel_bias_prior = false;   // the static initialisation's frame: its bias held
+    bool has_accel_bias_prior = false;   // the initialisation's first frame: its bias held
     Eigen::Vector3d accel_bias_prior;    // (bias_prior_factor.h)
+    double accel_bias_prior_sigma = 0;   // m/s^2
     int64_t imuTimeNs() const { return t_ns + data::secToNs(td); }
     Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
     Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
