@@ -6,12 +6,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
-#include <vector>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "data/formats/csv_reader.h"
+#include "data/formats/imu_csv.h"
 #include "data/formats/trajectory_io.h"
 #include "tests/test_support.h"
 
@@ -68,20 +68,6 @@ class CmdRunVioSim : public ::testing::Test {
 };
 TempDir* CmdRunVioSim::dir_ = nullptr;
 
-// Rows of a CSV file (comment lines skipped) as numbers.
-std::vector<std::vector<double>> csvRows(const std::filesystem::path& file) {
-  std::vector<std::vector<double>> rows;
-  std::ifstream in(file);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<double> row;
-    std::stringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 // `adugs sim --accel-bias` starts the accelerometer's bias there: every accelerometer sample is
 // the unbiased sequence's plus that bias (same seed: the same noise and the same random walk), the
 // ground truth's bias starts at it and sim.yaml records it. A hybrid sequence refuses it.
@@ -91,16 +77,16 @@ TEST(CmdSim, AccelBiasShiftsEveryAccelerometerSample) {
   const std::string base = "sim --scene room --level none --seed 3 --duration 2 --out ";
   ASSERT_EQ(runAdugs(base + (dir / "plain").string(), &log), 0) << log;
   ASSERT_EQ(runAdugs(base + (dir / "biased").string() + " --accel-bias 0.1,-0.05,0.08", &log), 0) << log;
-  const auto plain = csvRows(dir / "plain/mav0/imu0/data.csv");
-  const auto biased = csvRows(dir / "biased/mav0/imu0/data.csv");
+  const auto plain = data::readEurocImuCsv((dir / "plain/mav0/imu0/data.csv").string());
+  const auto biased = data::readEurocImuCsv((dir / "biased/mav0/imu0/data.csv").string());
   ASSERT_EQ(plain.size(), biased.size());
   ASSERT_GT(plain.size(), 300u);
-  const double bias[3] = {0.1, -0.05, 0.08};
+  const Eigen::Vector3d bias(0.1, -0.05, 0.08);
   for (size_t i = 0; i < plain.size(); ++i)
-    for (int a = 0; a < 3; ++a) ASSERT_NEAR(biased[i][4 + a] - plain[i][4 + a], bias[a], 1e-9) << "sample " << i;
-  const auto gt = csvRows(dir / "biased/mav0/state_groundtruth_estimate0/data.csv");
-  ASSERT_FALSE(gt.empty());
-  for (int a = 0; a < 3; ++a) EXPECT_NEAR(gt.front()[14 + a], bias[a], 1e-9);
+    ASSERT_LT((biased[i].accel - plain[i].accel - bias).norm(), 1e-9) << "sample " << i;
+  data::CsvReader gt((dir / "biased/mav0/state_groundtruth_estimate0/data.csv").string());
+  ASSERT_TRUE(gt.next());
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(gt.doubleAt(14 + a), bias[a], 1e-9);  // b_a_RS_S columns
   EXPECT_NE(readFile(dir / "biased/mav0/sim.yaml").find("initial_accel_bias: [0.1, -0.05, 0.08]"), std::string::npos)
       << readFile(dir / "biased/mav0/sim.yaml");
 

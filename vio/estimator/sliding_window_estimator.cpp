@@ -174,13 +174,9 @@ bool SlidingWindowEstimator::tryInitialize() {
       setSpeedBias(Eigen::Vector3d::Zero(), r.accel_bias, r.gyro_bias, f->speed_bias);
       if (f->imu) f->imu->repropagate(r.accel_bias, r.gyro_bias);
     }
-    if (options_.static_init_accel_bias_sigma > 0) {
-      // At rest tilt and horizontal accelerometer bias are one unknown: hold the bias where the
-      // initialisation put it (bias_prior_factor.h); marginalised with this frame into the prior.
-      frames_.front()->has_accel_bias_prior = true;
-      frames_.front()->accel_bias_prior = r.accel_bias;
-      frames_.front()->accel_bias_prior_sigma = options_.static_init_accel_bias_sigma;
-    }
+    // At rest tilt and horizontal accelerometer bias are one unknown: hold the bias where the
+    // initialisation put it (bias_prior_factor.h); marginalised with this frame into the prior.
+    holdInitialAccelBias(r.accel_bias, options_.static_init_accel_bias_sigma);
     stats_.init_kind = "static";
     if (!dead_reckoned_.empty()) continueFromDeadReckoning();
     return true;
@@ -211,15 +207,11 @@ bool SlidingWindowEstimator::tryInitialize() {
     setSpeedBias(r.velocities_W[k], r.accel_bias, r.gyro_bias, f.speed_bias);
     if (f.imu) f.imu->repropagate(r.accel_bias, r.gyro_bias);
   }
-  if (options_.vi_init_accel_bias_sigma > 0) {
-    // In motion the accelerometer bias and the scale trade off when the IMU accelerates little:
-    // without a prior the window can move the bias by 0.2 m/s^2 and the scale by 20 % together,
-    // and the marginalisation prior then keeps both (doc/estimator.md). Held near the
-    // initialisation's value (zero, as VINS-Mono) with this sigma; marginalised with the frame.
-    frames_.front()->has_accel_bias_prior = true;
-    frames_.front()->accel_bias_prior = r.accel_bias;
-    frames_.front()->accel_bias_prior_sigma = options_.vi_init_accel_bias_sigma;
-  }
+  // In motion the accelerometer bias and the scale trade off when the IMU accelerates little:
+  // without a prior the window can move the bias by 0.2 m/s^2 and the scale by 20 % together, and
+  // the marginalisation prior then keeps both (doc/estimator.md). Held near the initialisation's
+  // value (zero, as VINS-Mono); marginalised with the frame.
+  holdInitialAccelBias(r.accel_bias, options_.vi_init_accel_bias_sigma);
   const auto T_W_C = cameraPoses();
   for (const auto& [id, p_W] : r.landmarks_W) landmarks_.setWorldPoint(id, p_W, T_W_C);
   stats_.init_kind = "visual-inertial";
@@ -377,6 +369,11 @@ std::vector<std::unique_ptr<ceres::CostFunction>> SlidingWindowEstimator::restFa
   return factors;
 }
 
+void SlidingWindowEstimator::holdInitialAccelBias(const Eigen::Vector3d& bias, double sigma) {
+  frames_.front()->accel_bias_prior = bias;
+  frames_.front()->accel_bias_prior_sigma = sigma;
+}
+
 std::unique_ptr<ceres::CostFunction> SlidingWindowEstimator::accelBiasPrior(const Frame& f) const {
   return std::make_unique<BiasPriorFactor>(BiasPriorFactor::Bias::kAccel, f.accel_bias_prior,
                                            Eigen::Vector3d::Constant(f.accel_bias_prior_sigma));
@@ -429,7 +426,7 @@ void SlidingWindowEstimator::solve() {
       solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
     }
   for (auto& f : frames_)
-    if (f->has_accel_bias_prior) {
+    if (f->accel_bias_prior_sigma > 0) {
       costs.push_back(accelBiasPrior(*f));
       solver.addResidual(costs.back().get(), nullptr, {f->speed_bias});
     }
@@ -714,7 +711,7 @@ void SlidingWindowEstimator::marginalizeOldest() {
     costs.push_back(std::move(cost));
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
   }
-  if (oldest.has_accel_bias_prior) {
+  if (oldest.accel_bias_prior_sigma > 0) {
     costs.push_back(accelBiasPrior(oldest));
     m.addResidualBlock(costs.back().get(), nullptr, {oldest.speed_bias});
   }

@@ -124,9 +124,10 @@ class SlidingWindowEstimator {
     bool has_gyro_at_rest = false;       // stationary, with the gyro mean over its IMU interval:
     Eigen::Vector3d gyro_at_rest_mean;   // the bias it measured (bias_prior_factor.h)
     Eigen::Vector3d gyro_at_rest_sigma;
-    bool has_accel_bias_prior = false;   // the initialisation's first frame: its bias held
-    Eigen::Vector3d accel_bias_prior;    // (bias_prior_factor.h)
-    double accel_bias_prior_sigma = 0;   // m/s^2
+    // The initialisation's first frame: its accelerometer bias held at accel_bias_prior with this
+    // sigma (m/s^2; 0 = no prior; bias_prior_factor.h).
+    double accel_bias_prior_sigma = 0;
+    Eigen::Vector3d accel_bias_prior;
     int64_t imuTimeNs() const { return t_ns + data::secToNs(td); }
     Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
     Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
@@ -159,6 +160,8 @@ class SlidingWindowEstimator {
   // measured, the gyro bias at rest (built alike for the solve and the marginalisation).
   std::vector<std::unique_ptr<ceres::CostFunction>> restFactors(const Frame& f) const;
   std::unique_ptr<ceres::CostFunction> accelBiasPrior(const Frame& f) const;
+  // Holds the oldest frame's accelerometer bias at `bias` with `sigma` (0: no prior).
+  void holdInitialAccelBias(const Eigen::Vector3d& bias, double sigma);
   // Removes landmarks whose mean reprojection error exceeds options_.outlier_reprojection_px.
   void rejectOutliers();
   void removeGaugeDrift(const Eigen::Vector3d& p0_before, const Eigen::Matrix3d& R0_before);
