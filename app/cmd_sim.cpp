@@ -1,5 +1,6 @@
 // `adugs sim`: synthetic dynamic-scene sequences with exact ground truth (EuRoC ASL folder + masks
 // + MOT boxes). `--level all` writes the four levels of one scene and seed side by side.
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -27,6 +28,9 @@ void runSim(SimArgs& a) {
   if (!a.accel_bias.empty()) {
     if (data::isHybrid(o))
       throw data::InputError("command line", 0, "--accel-bias", "a hybrid sequence keeps the real IMU's own bias");
+    for (double b : a.accel_bias)
+      if (!(std::abs(b) <= 10.0))  // also NaN
+        throw data::InputError("command line", 0, "--accel-bias", "each value must be finite and within +-10 m/s^2");
     o.imu.initial_accel_bias = Eigen::Vector3d(a.accel_bias[0], a.accel_bias[1], a.accel_bias[2]);
   }
   std::vector<data::SimLevel> levels;

@@ -96,6 +96,11 @@ TEST(CmdSim, AccelBiasShiftsEveryAccelerometerSample) {
             2)
       << log;
   EXPECT_NE(log.find("--accel-bias"), std::string::npos) << log;
+  for (const char* bad : {"nan,0,0", "0,20,0"}) {
+    EXPECT_EQ(runAdugs(base + (dir / "bad").string() + " --accel-bias " + bad, &log), 2) << bad << "\n" << log;
+    EXPECT_NE(log.find("within +-10 m/s^2"), std::string::npos) << log;
+  }
+  EXPECT_NE(runAdugs(base + (dir / "bad").string() + " --accel-bias a,0,0", &log), 0) << log;
 }
 
 // On a gentle street path (seed 33, nothing moving) the IMU accelerates little: with the
