@@ -150,7 +150,7 @@ TEST_F(CmdRunVioSim, GroundTruthMasksRunEndToEndWithSummary) {
   // The initialisation's scale uncertainty is reported, and sim.yaml's check accepted it.
   const double scale_std = summaryNumber(out / "summary.yaml", "init_scale_relative_std");
   EXPECT_GT(scale_std, 0.0) << summary;
-  EXPECT_LE(scale_std, 0.5) << summary;
+  EXPECT_LE(scale_std, 0.4) << summary;
 }
 
 // The class-free motion cue alone prompts the masks (no model): in the room the people and boxes
