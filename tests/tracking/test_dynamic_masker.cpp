@@ -285,7 +285,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
       "motion_cue:\n  cell_px: 32\n  klt_pyramid_levels: 4\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
       "  translation_min_gain: 0.2\n"
-      "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 4\n  box_margin: 0.2\n",
+      "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 6\n  box_margin: 0.2\n",
       "dynamic.yaml");
   readDynamicMaskerOptions(cue, &o);
   cue.finish();
@@ -298,7 +298,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_DOUBLE_EQ(o.motion_cue.min_speed, 0.05);
   EXPECT_EQ(o.motion_cue.ransac_iterations, 50);
   EXPECT_DOUBLE_EQ(o.motion_cue.group_radius_px, 30);
-  EXPECT_EQ(o.motion_cue.min_points, 4);
+  EXPECT_EQ(o.motion_cue.min_points, 6);
   EXPECT_DOUBLE_EQ(o.motion_cue.box_margin, 0.2);
   EXPECT_EQ(o.grabcut.max_side, GrabCutOptions().max_side);  // no grabcut: map: the code's
   data::YamlOptionsReader grabcut = data::YamlOptionsReader::fromString(
