@@ -26,6 +26,7 @@ struct EvalArgs {
   std::string gt_path;
   std::string align = "se3";
   int align_frames = -1;
+  double skip_first_s = 0;
   double max_dt_s = 0.01;
   std::vector<double> rpe_lengths_m;
   double cr_max_position_m = 1.0;
@@ -72,6 +73,9 @@ std::string report(const EvalArgs& a, const data::TrajectoryReadInfo& est_info,
   out += format("  ground truth  %s  (%s, %zu poses%s)\n", a.gt_path.c_str(),
                 data::trajectoryFormatName(gt_info.format), r.gt_poses,
                 duplicatesNote(gt_info).c_str());
+  if (a.skip_first_s > 0)
+    out += format("  skipped       the estimate's first %g s (--skip-first): %zu of its poses evaluated\n",
+                  a.skip_first_s, r.est_matched.size());
   out += format("  matched       %zu pairs within %g s\n", r.pairs.size(), a.max_dt_s);
   const Eigen::Vector3d& t = r.T_G_E.t_G_E;
   if (r.align_mode == vio::AlignMode::kNone) {
@@ -156,6 +160,7 @@ std::string json(const EvalArgs& a, const data::TrajectoryReadInfo& est_info,
     << ", \"duplicates_dropped\": " << est_info.duplicates_dropped << "},\n"
     << "  \"ground_truth\": {\"path\": " << jsonString(a.gt_path) << ", \"poses\": " << r.gt_poses
     << ", \"duplicates_dropped\": " << gt_info.duplicates_dropped << "},\n"
+    << "  \"skip_first_s\": " << jsonNumber(a.skip_first_s) << ",\n"
     << "  \"max_dt_s\": " << jsonNumber(a.max_dt_s) << ",\n  \"matched_pairs\": " << r.pairs.size()
     << ",\n"
     << "  \"alignment\": {\"mode\": \"" << vio::alignModeName(r.align_mode)
@@ -205,6 +210,7 @@ void runEval(const EvalArgs& a) {
   vio::EvalOptions options;
   options.align = vio::parseAlignMode(a.align);  // already checked by CLI11
   options.align_frames = a.align_frames;
+  options.skip_first_s = a.skip_first_s;
   options.max_dt_ns = data::secToNs(a.max_dt_s);
   options.rpe_lengths_m = a.rpe_lengths_m;
   options.correct_rate.max_position_m = a.cr_max_position_m;
@@ -250,6 +256,11 @@ void registerEvalCommand(CLI::App& root) {
   cmd->add_option("--align-frames", args->align_frames,
                   "align on the first N matched poses only (default: all)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--skip-first", args->skip_first_s,
+                  "leave out the estimate's poses within this many seconds of its first one (the "
+                  "initialisation's transient) [s]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--max-dt", args->max_dt_s, "max time difference to match poses [s]")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -285,6 +285,25 @@ TEST(CmdEval, OpenLorisCorrectRate) {
   EXPECT_NE(out.find("--cr-max-position-m"), std::string::npos) << out;
 }
 
+TEST(CmdEval, SkipFirstLeavesTheEstimatesFirstSecondsOut) {
+  TempDir dir;
+  writePair(dir, true, false);  // 200 poses 0.05 s apart, the first at -2 ms
+  std::string out;
+  ASSERT_EQ(runAdugs(args(dir, "--align none --skip-first 3"), &out), 0) << out;
+  // From the first pose + 3 s on: poses 60..199 (the offsets alternate, so the RMSE stays).
+  EXPECT_NE(out.find("140 pairs"), std::string::npos) << out;
+  EXPECT_NE(out.find("(TUM, 200 poses)"), std::string::npos) << out;
+  EXPECT_NE(out.find("skipped       the estimate's first 3 s (--skip-first): 140 of its poses evaluated"),
+            std::string::npos)
+      << out;
+  EXPECT_NEAR(printedAteRmse(out), 0.223607, 1e-6) << out;
+  EXPECT_NE(runAdugs(args(dir, "--skip-first 20"), &out), 0);  // the estimate spans 9.95 s
+  EXPECT_NE(out.find("nothing left to evaluate"), std::string::npos) << out;
+  EXPECT_NE(out.find("est.txt"), std::string::npos) << out;
+  EXPECT_NE(runAdugs(args(dir, "--skip-first -1"), &out), 0);
+  EXPECT_NE(out.find("--skip-first"), std::string::npos) << out;
+}
+
 TEST(CmdEval, BadOptions) {
   TempDir dir;
   writePair(dir, false, false);

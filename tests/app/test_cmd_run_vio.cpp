@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -148,6 +149,18 @@ TEST_F(CmdRunVioSim, GroundTruthMasksRunEndToEndWithSummary) {
   const auto traj = data::readTrajectory((out / "trajectory.tum").string());
   EXPECT_GT(traj.size(), 90u);
   EXPECT_NE(log.find("ATE (se3)"), std::string::npos) << log;
+  // The settled ATE is `adugs eval --skip-first 3` of the same two files.
+  std::string eval_log;
+  ASSERT_EQ(runAdugs("eval --est " + (out / "trajectory.tum").string() + " --gt " +
+                         (dir_->path() / "mav0/state_groundtruth_estimate0/data.csv").string() + " --skip-first 3",
+                     &eval_log),
+            0)
+      << eval_log;
+  std::smatch printed;
+  ASSERT_TRUE(std::regex_search(eval_log, printed, std::regex(R"(trans \[m\]\s+([0-9.]+))"))) << eval_log;
+  const double settled = summaryNumber(out / "summary.yaml", "ate_se3_rmse_settled_m");
+  EXPECT_GT(settled, 0.0) << summary;
+  EXPECT_NEAR(settled, std::stod(printed[1]), 2e-6) << eval_log;
   // The initialisation's scale uncertainty is reported, and sim.yaml's check accepted it.
   const double scale_std = summaryNumber(out / "summary.yaml", "init_scale_relative_std");
   const double cut = app::loadRunConfig(kSourceDir + std::string("/data/config/sim.yaml")).estimator.init.max_scale_relative_std;

@@ -19,9 +19,27 @@ std::string timeRange(const data::Trajectory& t) {
 EvalResult evaluateTrajectory(const data::Trajectory& est, const data::Trajectory& gt,
                               const EvalOptions& options) {
   if (options.max_dt_ns < 0) throw std::invalid_argument("max dt must be >= 0");
+  if (!(options.skip_first_s >= 0)) throw std::invalid_argument("the time skipped at the start must be >= 0 s");
   EvalResult r;
   r.est_poses = est.size();
   r.gt_poses = gt.size();
+  if (options.skip_first_s > 0 && !est.empty()) {
+    const int64_t from_ns = est.front().t_ns + data::secToNs(options.skip_first_s);
+    data::Trajectory kept;
+    for (const data::StampedPose& pose : est)
+      if (pose.t_ns >= from_ns) kept.push_back(pose);
+    if (kept.empty()) {
+      char buf[128];
+      std::snprintf(buf, sizeof(buf), "nothing left to evaluate: the estimate spans %.3f s, all of it within the %g s skipped",
+                    data::nsToSec(est.back().t_ns - est.front().t_ns), options.skip_first_s);
+      throw std::invalid_argument(buf);
+    }
+    EvalOptions rest = options;
+    rest.skip_first_s = 0;
+    EvalResult cropped = evaluateTrajectory(kept, gt, rest);
+    cropped.est_poses = est.size();
+    return cropped;
+  }
   r.pairs = associate(est, gt, options.max_dt_ns);
   if (r.pairs.empty()) {
     char buf[64];
