@@ -71,6 +71,15 @@ def mask_cell(values):
     return "%.2f / %.2f" % (statistics.median(v[0] for v in ok), statistics.median(v[1] for v in ok))
 
 
+def scene_level_table(scenes, levels, modes, figures, cell_of):
+    """A markdown table, one row per scene and level, one column per mode: cell_of(figures[(scene, level, mode)])."""
+    lines = ["| scene | level | " + " | ".join(MODE_TITLES[m] for m in modes) + " |", "|---|---|" + "---|" * len(modes)]
+    for scene in scenes:
+        for level in levels:
+            lines.append("| %s | %s | " % (scene, level) + " | ".join(cell_of(figures[(scene, level, m)]) for m in modes) + " |")
+    return lines
+
+
 def median(values):
     ok = [v for v in values if v is not None]
     return statistics.median(ok) if ok else None
@@ -236,21 +245,12 @@ def main():
                 seen_static[(scene, level, mode)] = [r.seen_static for r in runs]
                 settled[(scene, level, mode)] = [r.settled for r in runs]
     table_modes = [m for m in ("none", "det", "det_sam", "motion", "det_motion", "gt") if m in modes]
-    lines += ["| scene | level | " + " | ".join(MODE_TITLES[m] for m in table_modes) + " |",
-              "|---|---|" + "---|" * len(table_modes)]
-    for scene in scenes:
-        for level in levels:
-            lines.append("| %s | %s | " % (scene, level) + " | ".join(cell(ate[(scene, level, m)]) for m in table_modes) + " |")
+    lines += scene_level_table(scenes, levels, table_modes, ate, cell)
     if any(v is not None for m in table_modes for scene in scenes for level in levels for v in settled[(scene, level, m)]):
         lines += ["", "The same runs once settled (`ate_se3_rmse_settled_m`: the poses from 3 s after the first on, "
                   "aligned on their own; the initialisation's transient left out, doc/results.md \"The "
-                  "initialisation's transient\"):", "",
-                  "| scene | level | " + " | ".join(MODE_TITLES[m] for m in table_modes) + " |",
-                  "|---|---|" + "---|" * len(table_modes)]
-        for scene in scenes:
-            for level in levels:
-                lines.append("| %s | %s | " % (scene, level) +
-                             " | ".join(cell(settled[(scene, level, m)]) for m in table_modes) + " |")
+                  "initialisation's transient\"):", ""]
+        lines += scene_level_table(scenes, levels, table_modes, settled, cell)
     lines += ["", "Target (issue 16): with the detector chain, the `high` level's ATE at most 1.3x the `none` level's:"]
     for scene in scenes:
         if "high" in levels and "none" in levels and "det" in modes:
@@ -284,13 +284,8 @@ def main():
     if mask_modes:
         lines += ["", "Masks of the detector chain and the motion cue against the exact masks (`dynamic_mask_vs_exact` of the runs' "
                   "summary.yaml): recall of the dynamic pixels / precision of the masked pixels, median over the "
-                  "seeds:", "",
-                  "| scene | level | " + " | ".join(MODE_TITLES[m] for m in mask_modes) + " |",
-                  "|---|---|" + "---|" * len(mask_modes)]
-        for scene in scenes:
-            for level in levels:
-                lines.append("| %s | %s | " % (scene, level) +
-                             " | ".join(mask_cell(masks[(scene, level, m)]) for m in mask_modes) + " |")
+                  "seeds:", ""]
+        lines += scene_level_table(scenes, levels, mask_modes, masks, mask_cell)
         lines += class_recall_lines(scenes, levels, mask_modes, by_class)
     if "motion" in modes or "det_motion" in modes:
         lines += issue30_lines(scenes, levels, modes, seeds, ate, seen_static, settled)
