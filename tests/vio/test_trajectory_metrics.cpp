@@ -228,6 +228,10 @@ TEST(Evaluate, SkipFirstLeavesTheTransientOut) {
   EXPECT_EQ(settled.est_matched.front().t_ns, gt[60].t_ns);
   EXPECT_LT(settled.ate.translation.rmse, 1e-9);
   EXPECT_NEAR(settled.gt_length_m, pathLength(Trajectory(gt.begin() + 60, gt.end())), 1e-9);
+  EXPECT_EQ(settled.gt_poses, 201u);
+  // The correct rate's span starts where the evaluation does: every pose left is correct.
+  EXPECT_NEAR(settled.correct_rate.span_s, 7.0, 1e-9);
+  EXPECT_DOUBLE_EQ(settled.correct_rate.correct_rate, 1.0);
 
   options.skip_first_s = 10.5;  // past the last pose (t = 10 s)
   try {

@@ -20,15 +20,15 @@ EvalResult evaluateTrajectory(const data::Trajectory& est, const data::Trajector
                               const EvalOptions& options) {
   if (options.max_dt_ns < 0) throw std::invalid_argument("max dt must be >= 0");
   if (!(options.skip_first_s >= 0)) throw std::invalid_argument("the time skipped at the start must be >= 0 s");
-  EvalResult r;
-  r.est_poses = est.size();
-  r.gt_poses = gt.size();
   if (options.skip_first_s > 0 && !est.empty()) {
+    // Both trajectories cropped, so that the correct rate's span starts where the evaluation does.
     const int64_t from_ns = est.front().t_ns + data::secToNs(options.skip_first_s);
-    data::Trajectory kept;
+    data::Trajectory est_kept, gt_kept;
     for (const data::StampedPose& pose : est)
-      if (pose.t_ns >= from_ns) kept.push_back(pose);
-    if (kept.empty()) {
+      if (pose.t_ns >= from_ns) est_kept.push_back(pose);
+    for (const data::StampedPose& pose : gt)
+      if (pose.t_ns >= from_ns - options.max_dt_ns) gt_kept.push_back(pose);
+    if (est_kept.empty()) {
       char buf[128];
       std::snprintf(buf, sizeof(buf), "nothing left to evaluate: the estimate spans %.3f s, all of it within the %g s skipped",
                     data::nsToSec(est.back().t_ns - est.front().t_ns), options.skip_first_s);
@@ -36,10 +36,14 @@ EvalResult evaluateTrajectory(const data::Trajectory& est, const data::Trajector
     }
     EvalOptions rest = options;
     rest.skip_first_s = 0;
-    EvalResult cropped = evaluateTrajectory(kept, gt, rest);
+    EvalResult cropped = evaluateTrajectory(est_kept, gt_kept, rest);
     cropped.est_poses = est.size();
+    cropped.gt_poses = gt.size();
     return cropped;
   }
+  EvalResult r;
+  r.est_poses = est.size();
+  r.gt_poses = gt.size();
   r.pairs = associate(est, gt, options.max_dt_ns);
   if (r.pairs.empty()) {
     char buf[64];

@@ -20,8 +20,8 @@ struct EvalOptions {
   int64_t max_dt_ns = 10'000'000;  // association: max |t_est - t_gt| (evo's default 0.01 s)
   AlignMode align = AlignMode::kSe3;
   int align_frames = -1;              // align on the first N matched pairs; <= 0: all
-  // The estimate's poses less than this long after its first pose are left out of everything
-  // (evo's --t_start, relative to the estimate): after a moving start the window spends a few
+  // The estimate's poses less than this long after its first pose, and the ground truth before
+  // them, are left out of everything (evo's --t_start, relative to the estimate): after a moving start the window spends a few
   // seconds correcting the initialisation's scale and velocity, and on a short run that transient
   // can be most of the ATE. 0: every pose.
   double skip_first_s = 0;
@@ -31,7 +31,7 @@ struct EvalOptions {
 };
 
 struct EvalResult {
-  size_t est_poses = 0;  // input sizes (est_poses before skip_first_s)
+  size_t est_poses = 0;  // input sizes (before skip_first_s)
   size_t gt_poses = 0;
   std::vector<Association> pairs;
   data::Trajectory est_matched;  // est poses of the pairs, in the estimate's frame
