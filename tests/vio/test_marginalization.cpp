@@ -224,18 +224,19 @@ TEST(Marginalization, PoseChainKeepsEstimateAfterMarginalisingFirstPose) {
   }
 }
 
-// The estimator's structure: a pose-like block p and landmark-like scalars l1..l3 marginalised,
+// The estimator's structure: a pose-like block p and landmark-like scalars l1..l4 marginalised,
 // each landmark meeting p and a kept block, never another landmark. The landmarks go through
 // the cheap per-block elimination, p through the dense one; the prior must equal the Schur
-// complement computed densely here: J^T J = H*, J^T r = g*.
+// complement computed densely here: J^T J = H*, J^T r = g*. l4 meets p and k2 but not k1, which
+// lies between them: its update falls on blocks apart from each other, not one run of rows.
 TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
   std::mt19937 rng(7);
   auto random = [&](int rows, int cols) { return randomMatrix(rows, cols, rng); };
   std::array<double, 3> p{0.1, -0.2, 0.3}, k1{1.0, 0.5, -0.5};
   std::array<double, 2> k2{0.2, 0.4};
-  std::array<std::array<double, 1>, 3> l{{{0.5}, {-0.7}, {1.2}}};
-  // Global layout of the reference: [p(3) l1 l2 l3 | k1(3) k2(2)].
-  const int n_marg = 6, n_all = 11;
+  std::array<std::array<double, 1>, 4> l{{{0.5}, {-0.7}, {1.2}, {0.9}}};
+  // Global layout of the reference: [p(3) l1 l2 l3 l4 | k1(3) k2(2)].
+  const int n_marg = 7, n_all = 12;
   std::vector<std::unique_ptr<LinearCost>> costs;
   std::vector<std::vector<int>> offsets;  // per cost, per block: global offset
   std::vector<std::vector<double*>> blocks;
@@ -249,11 +250,12 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
   add({p.data()}, {0}, {3}, 3);  // p's own prior
   for (int i = 0; i < 3; ++i)    // two observations per landmark
     for (int obs = 0; obs < 2; ++obs)
-      add({p.data(), l[i].data(), k1.data()}, {0, 3 + i, 6}, {3, 1, 3}, 2);
-  add({p.data(), k2.data()}, {0, 9}, {3, 2}, 3);
+      add({p.data(), l[i].data(), k1.data()}, {0, 3 + i, 7}, {3, 1, 3}, 2);
+  for (int obs = 0; obs < 2; ++obs) add({p.data(), l[3].data(), k2.data()}, {0, 6, 10}, {3, 1, 2}, 2);
+  add({p.data(), k2.data()}, {0, 10}, {3, 2}, 3);
   std::array<double, 2> fixed{0.3, 0.3};  // held constant: not part of the prior
   add({p.data(), fixed.data()}, {0, -1}, {3, 2}, 2);
-  add({k1.data(), k2.data()}, {6, 9}, {3, 2}, 4);  // kept only: ignored by the marginaliser
+  add({k1.data(), k2.data()}, {7, 10}, {3, 2}, 4);  // kept only: ignored by the marginaliser
 
   Marginalizer marginalizer;
   marginalizer.setConstant(fixed.data());
@@ -281,7 +283,8 @@ TEST(Marginalization, LandmarkStructureMatchesDenseSchurComplement) {
   const Eigen::MatrixXd H_star = H.bottomRightCorner(5, 5) - Hkm * Hmm_inv * Hkm.transpose();
   const Eigen::VectorXd g_star = g.tail(5) - Hkm * Hmm_inv * g.head(n_marg);
 
-  const auto prior = marginalizer.marginalize({p.data(), l[0].data(), l[1].data(), l[2].data()});
+  const auto prior =
+      marginalizer.marginalize({p.data(), l[0].data(), l[1].data(), l[2].data(), l[3].data()});
   ASSERT_EQ(prior->blocks.size(), 2u);
   // The prior's kept order is first appearance: k1 (via a landmark residual), then k2.
   EXPECT_EQ(prior->blocks[0], k1.data());

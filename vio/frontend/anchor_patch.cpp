@@ -64,7 +64,7 @@ AnchorPatch::AnchorPatch(const cv::Mat& image, const Eigen::Vector2d& center, in
   for (const auto& J : steepest_) H.selfadjointView<Eigen::Lower>().rankUpdate(J.cast<double>());
   H = H.selfadjointView<Eigen::Lower>();
   // A corner constrains all six parameters; an edge or a flat patch leaves some free.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H, Eigen::EigenvaluesOnly);
   if (sigma_ < 2.0 || !(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(5))) return;
   H_inv_ = H.inverse();
   valid_ = true;
