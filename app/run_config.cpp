@@ -57,7 +57,7 @@ RunConfig loadRunConfig(const std::string& path) {
   return readRunConfig(r);
 }
 
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated) {
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated, bool hybrid) {
   std::ostringstream what;
   what << std::setprecision(3) << camera.rate_hz << " Hz camera";  // a bag's measured rate: 30.5, not 30.5095
   // No distortion: 'none', or radtan with zero coefficients (equidistant always bends rays).
@@ -70,6 +70,10 @@ RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simu
   if (camera.rate_hz >= 25.0) return {"d435i.yaml", what.str() + ": the RealSense D435i class (30 Hz)"};
   if (!(camera.rate_hz > 0))
     return {"euroc.yaml", "camera rate unknown: the EuRoC class (global shutter, 20 Hz)"};
+  // Rendered without distortion along a real flight, the IMU is a real one (EuRoC's ADIS16448): the
+  // EuRoC class's IMU settings fit it (doc/results.md, "The real IMU's noise").
+  if (ideal_pinhole && hybrid)
+    return {"euroc.yaml", what.str() + " rendered along a real flight (real IMU): the EuRoC class"};
   if (ideal_pinhole)
     return {"sim.yaml", what.str() + " without lens distortion: the simulator class (rendered images, e.g. VIODE)"};
   return {"euroc.yaml", what.str() + " with lens distortion: the EuRoC class (global shutter, 20 Hz)"};
@@ -80,7 +84,7 @@ RunConfig runConfigFor(const std::string& path, const data::OpenedSequence& sequ
     *described = path;
     return loadRunConfig(path);
   }
-  const RunConfigChoice choice = chooseRunConfig(sequence.camera, sequence.simulated);
+  const RunConfigChoice choice = chooseRunConfig(sequence.camera, sequence.simulated, sequence.hybrid);
   const std::string text = data::builtinConfigText(choice.name);
   if (text.empty()) throw std::logic_error("data/config/" + choice.name + " is not built into this adugs");
   *described = "data/config/" + choice.name + " (built in; " + choice.reason + ")";

@@ -45,15 +45,16 @@ RunConfig loadRunConfig(const std::string& path);  // "" = the defaults in code
 // The config `adugs run` / `adugs live` use without --config: one per sensor class in data/config/
 // (built into the binary), chosen from what the sequence says about its camera:
 //   sim.yaml    a folder written by `adugs sim` with a simulated IMU (its camera has EuRoC's lens
-//               distortion, so only the folder tells; hybrid folders, real IMU, go by their
-//               camera), or a camera below 25 Hz without lens distortion (rendered images: VIODE)
+//               distortion, so only the folder tells), or a camera below 25 Hz without lens
+//               distortion (rendered images: VIODE) unless the folder is a hybrid one of `adugs
+//               sim` (rendered along a real flight's IMU: euroc.yaml, the real IMU's settings)
 //   d435i.yaml  a camera at 25 Hz or more (RealSense D435i: 30 Hz; td estimated online)
 //   euroc.yaml  below 25 Hz with lens distortion (EuRoC, TUM-VI), or rate unknown
 struct RunConfigChoice {
   std::string name;    // file name in data/config/
   std::string reason;  // why, for the start-of-run line and the summary
 };
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated);
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated, bool hybrid);
 // The user's --config file when given, else the sensor class's built-in one; `described` says
 // which (and why) for the start-of-run line and the summary.
 RunConfig runConfigFor(const std::string& config_path, const data::OpenedSequence& sequence, std::string* described);

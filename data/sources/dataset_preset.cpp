@@ -136,6 +136,7 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
     std::string mode;
     YamlOptionsReader::fromFile(sim.string()).optional("mode", mode);
     s.simulated = mode == "synthetic";
+    s.hybrid = mode == "hybrid";
   }
   // The folder's own camera file may carry adugs calib's verdict (a recording made with a weak one).
   const fs::path camera_file = fs::path(reader->mavDir()) / "cam0" / "sensor.yaml";

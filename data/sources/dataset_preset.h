@@ -55,8 +55,9 @@ struct OpenedSequence {
   std::string mask_dir;  // the simulator's per-frame dynamic masks (ASL folders only; "" if none)
   std::string objects_path;  // beside them, the movers' boxes with their classes (mav0/objects0/gt.txt)
   // An ASL folder written by `adugs sim` with simulated IMU data (mav0/sim.yaml, mode: synthetic);
-  // a hybrid one (rendered images along a real flight's IMU) is not.
+  // a hybrid one (rendered images along a real flight's IMU, mode: hybrid) is not: it is `hybrid`.
   bool simulated = false;
+  bool hybrid = false;
   std::string calibration_from;  // where the calibration came from, for the run summary
   // Calibration files it was read from that may carry adugs calib's verdict: the user's Kalibr
   // files, an ASL folder's own cam0/sensor.yaml.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <regex>
 
 #include "app/run_config.h"
 #include "data/builtin_config.h"
@@ -28,22 +29,27 @@ data::CameraCalibration camera(double rate_hz, std::vector<double> distortion) {
 
 TEST(RunConfigChoice, SensorClassFromRateAndDistortion) {
   const std::vector<double> radtan{-0.28, 0.07, 2e-4, 2e-5}, none{0, 0, 0, 0};
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false).name, "euroc.yaml");  // EuRoC cam0
-  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false).name, "sim.yaml");      // adugs sim, VIODE
-  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false).name, "d435i.yaml");    // D435i IR, OpenLORIS
-  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), false).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false, false).name, "euroc.yaml");  // EuRoC cam0
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false, false).name, "sim.yaml");      // adugs sim, VIODE
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false, false).name, "d435i.yaml");    // D435i IR, OpenLORIS
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), false, false).name, "d435i.yaml");
   data::CameraCalibration fisheye = camera(20, none);  // TUM-VI: equidistant, a real lens
   fisheye.distortion_model = data::DistortionModel::kEquidistant;
-  EXPECT_EQ(app::chooseRunConfig(fisheye, false).name, "euroc.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none), false).name, "sim.yaml");    // the boundary: 25 Hz
-  EXPECT_EQ(app::chooseRunConfig(camera(25, none), false).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(fisheye, false, false).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none), false, false).name, "sim.yaml");    // the boundary: 25 Hz
+  EXPECT_EQ(app::chooseRunConfig(camera(25, none), false, false).name, "d435i.yaml");
   // Unknown rate (a bag with one image): the EuRoC class, and the reason says so.
-  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none), false);
+  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none), false, false);
   EXPECT_EQ(unknown.name, "euroc.yaml");
   EXPECT_NE(unknown.reason.find("rate unknown"), std::string::npos) << unknown.reason;
   // A folder of `adugs sim` has EuRoC's lens distortion (and may run at 30 Hz): the folder tells.
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), true).name, "sim.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), true).name, "sim.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), true, false).name, "sim.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), true, false).name, "sim.yaml");
+  // A hybrid folder (rendered images along a real flight's IMU) below 25 Hz takes the real IMU's
+  // class, with or without lens distortion in its renders; at 30 Hz the D435i's, as any camera.
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false, true).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false, true).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false, true).name, "d435i.yaml");
 }
 
 data::OpenedSequence sequenceWith(const data::CameraCalibration& c) {
@@ -140,6 +146,24 @@ TEST(RunConfigChoice, AdugsRunPrintsAndRecordsTheChosenConfig) {
   EXPECT_NE(summary.find("config: \"data/config/d435i.yaml (built in;"), std::string::npos) << summary;
   EXPECT_NE(summary.find("time_offset_estimated: true"), std::string::npos) << summary;
   EXPECT_GT(data::readTrajectory((dir / "out" / "trajectory.tum").string()).size(), 60u);
+
+  // Below 25 Hz without lens distortion a hybrid folder is still a real IMU's: the EuRoC class,
+  // whose accelerometer density is the calibration's times its accel_noise_inflation (4).
+  const fs::path cam_yaml = dir / "seq30" / "mav0" / "cam0" / "sensor.yaml";
+  std::string cam = readFile(cam_yaml);
+  cam = std::regex_replace(cam, std::regex("\nrate_hz: [0-9.]+"), "\nrate_hz: 20");
+  cam = std::regex_replace(cam, std::regex("\ndistortion_coefficients: \\[[^\\]]*\\]"),
+                           "\ndistortion_coefficients: [0.0, 0.0, 0.0, 0.0]");
+  writeText(cam_yaml, cam);
+  ASSERT_EQ(runAdugs("run " + (dir / "seq30").string() + " --out " + (dir / "euroc").string(), &log), 0) << log;
+  EXPECT_NE(log.find("run: config data/config/euroc.yaml (built in; 20 Hz camera rendered along a real flight"),
+            std::string::npos)
+      << log;
+  const std::string euroc_summary = readFile(dir / "euroc" / "summary.yaml");
+  EXPECT_NE(euroc_summary.find("accel_noise_density: 0.008  # m/s^2/sqrt(Hz) in the preintegration: the IMU "
+                               "calibration's 0.002 x accel_noise_inflation 4"),
+            std::string::npos)
+      << euroc_summary;
 
   // A sim.yaml that is not YAML is an input error naming it, not a silent guess of the class.
   writeText(sim_yaml, "mode: [synthetic\n");

@@ -565,6 +565,24 @@ TEST(SlidingWindowEstimator, TimeOffsetBeyondItsBoundResetsTheWindow) {
   EXPECT_GT(after_gap, 0u) << "no pose after a reset";
 }
 
+TEST(SlidingWindowEstimator, AccelNoiseInflationScalesOnlyTheAccelerometerDensity) {
+  ImuPreintegrationOptions imu;  // EuRoC's ADIS16448 figures
+  EstimatorOptions options;
+  EXPECT_DOUBLE_EQ(SlidingWindowEstimator(options, 460.0, Eigen::Isometry3d::Identity(), imu)
+                       .imuOptions()
+                       .accel_noise_density,
+                   imu.accel_noise_density);  // 1 by default: the calibration as it is
+  options.accel_noise_inflation = 4.0;
+  const SlidingWindowEstimator e(options, 460.0, Eigen::Isometry3d::Identity(), imu);
+  EXPECT_DOUBLE_EQ(e.imuOptions().accel_noise_density, 4.0 * 2.0e-3);
+  EXPECT_DOUBLE_EQ(e.imuOptions().gyro_noise_density, imu.gyro_noise_density);
+  EXPECT_DOUBLE_EQ(e.imuOptions().accel_random_walk, imu.accel_random_walk);
+  EXPECT_DOUBLE_EQ(e.imuOptions().gyro_random_walk, imu.gyro_random_walk);
+  options.accel_noise_inflation = 0.0;
+  EXPECT_THROW(SlidingWindowEstimator(options, 460.0, Eigen::Isometry3d::Identity(), imu),
+               std::invalid_argument);
+}
+
 TEST(SlidingWindowEstimator, RejectsBadInput) {
   ImuPreintegrationOptions imu;
   EstimatorOptions options;

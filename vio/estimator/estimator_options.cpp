@@ -13,6 +13,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("keyframe_min_tracked", o->keyframe_min_tracked, 0, 10000);
   r.optional("pixel_sigma", o->pixel_sigma, 0.01, 100.0);
   r.optional("huber_px", o->huber_px, 0.01, 100.0);
+  r.optional("accel_noise_inflation", o->accel_noise_inflation, 0.1, 100.0);
   r.optional("outlier_reprojection_px", o->outlier_reprojection_px, 0.0, 1000.0);
   r.optional("max_iterations", o->max_iterations, 1, 1000);
   r.optional("solver_function_tolerance", o->solver_function_tolerance, 0.0, 0.5);

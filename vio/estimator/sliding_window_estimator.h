@@ -110,6 +110,8 @@ class SlidingWindowEstimator {
   bool initialized() const { return initialized_; }
   const EstimatorStats& stats() const { return stats_; }
   const EstimatorOptions& options() const { return options_; }  // as in effect (focal set, ...)
+  // The IMU noise the preintegrations assume (accel_noise_inflation applied).
+  const ImuPreintegrationOptions& imuOptions() const { return imu_options_; }
   int windowFrames() const { return static_cast<int>(frames_.size()); }
 
  private:
