@@ -57,7 +57,7 @@ RunConfig loadRunConfig(const std::string& path) {
   return readRunConfig(r);
 }
 
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated, bool hybrid) {
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, data::SimFolder folder) {
   std::ostringstream what;
   what << std::setprecision(3) << camera.rate_hz << " Hz camera";  // a bag's measured rate: 30.5, not 30.5095
   // No distortion: 'none', or radtan with zero coefficients (equidistant always bends rays).
@@ -66,13 +66,14 @@ RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simu
       (camera.distortion_model == data::DistortionModel::kNone ||
        (camera.distortion_model == data::DistortionModel::kRadialTangential &&
         std::all_of(camera.distortion.begin(), camera.distortion.end(), [](double k) { return k == 0.0; })));
-  if (simulated) return {"sim.yaml", "written by adugs sim with a simulated IMU: the simulator class"};
+  if (folder == data::SimFolder::kSynthetic)
+    return {"sim.yaml", "written by adugs sim with a simulated IMU: the simulator class"};
   if (camera.rate_hz >= 25.0) return {"d435i.yaml", what.str() + ": the RealSense D435i class (30 Hz)"};
   if (!(camera.rate_hz > 0))
     return {"euroc.yaml", "camera rate unknown: the EuRoC class (global shutter, 20 Hz)"};
   // Rendered without distortion along a real flight, the IMU is a real one (EuRoC's ADIS16448): the
   // EuRoC class's IMU settings fit it (doc/results.md, "The real IMU's noise").
-  if (ideal_pinhole && hybrid)
+  if (ideal_pinhole && folder == data::SimFolder::kHybrid)
     return {"euroc.yaml", what.str() + " rendered along a real flight (real IMU): the EuRoC class"};
   if (ideal_pinhole)
     return {"sim.yaml", what.str() + " without lens distortion: the simulator class (rendered images, e.g. VIODE)"};
@@ -84,7 +85,7 @@ RunConfig runConfigFor(const std::string& path, const data::OpenedSequence& sequ
     *described = path;
     return loadRunConfig(path);
   }
-  const RunConfigChoice choice = chooseRunConfig(sequence.camera, sequence.simulated, sequence.hybrid);
+  const RunConfigChoice choice = chooseRunConfig(sequence.camera, sequence.sim_folder);
   const std::string text = data::builtinConfigText(choice.name);
   if (text.empty()) throw std::logic_error("data/config/" + choice.name + " is not built into this adugs");
   *described = "data/config/" + choice.name + " (built in; " + choice.reason + ")";

@@ -54,7 +54,7 @@ struct RunConfigChoice {
   std::string name;    // file name in data/config/
   std::string reason;  // why, for the start-of-run line and the summary
 };
-RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, bool simulated, bool hybrid);
+RunConfigChoice chooseRunConfig(const data::CameraCalibration& camera, data::SimFolder folder);
 // The user's --config file when given, else the sensor class's built-in one; `described` says
 // which (and why) for the start-of-run line and the summary.
 RunConfig runConfigFor(const std::string& config_path, const data::OpenedSequence& sequence, std::string* described);

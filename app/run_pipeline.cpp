@@ -112,9 +112,9 @@ std::string summaryLines(const Pipeline& pipeline, const PipelineResult& r, cons
     out << "solver_steps_per_solve: " << es.solver_iterations * per_solve << "  # tried, of which accepted "
         << es.solver_successful * per_solve << "; at most max_iterations (" << estimator->options().max_iterations
         << "), fewer when converged\n";
-    out << "accel_noise_density: " << estimator->imuOptions().accel_noise_density << "  # m/s^2/sqrt(Hz) in the preintegration: the IMU calibration's "
-        << sequence.imu_noise.accel_noise_density << " x accel_noise_inflation " << estimator->options().accel_noise_inflation
-        << "\n";
+    out << "accel_noise_density: " << estimator->imuOptions().accel_noise_density
+        << "  # m/s^2/sqrt(Hz) in the preintegration: the IMU calibration's " << sequence.imu_noise.accel_noise_density
+        << " x accel_noise_inflation " << estimator->options().accel_noise_inflation << "\n";
     out << "first_estimate_jacobians: " << (estimator->options().first_estimate_jacobians ? "true" : "false")
         << "\n"
         << "prior_yaw_information_median: " << median(es.prior_yaw_information)

@@ -135,8 +135,8 @@ OpenedSequence openFolder(const PlaybackOptions& o, const Calibration& calib) {
     // Only the mode matters here; the other keys (scene, seed, ...) describe how it was made.
     std::string mode;
     YamlOptionsReader::fromFile(sim.string()).optional("mode", mode);
-    s.simulated = mode == "synthetic";
-    s.hybrid = mode == "hybrid";
+    if (mode == "synthetic") s.sim_folder = SimFolder::kSynthetic;
+    if (mode == "hybrid") s.sim_folder = SimFolder::kHybrid;
   }
   // The folder's own camera file may carry adugs calib's verdict (a recording made with a weak one).
   const fs::path camera_file = fs::path(reader->mavDir()) / "cam0" / "sensor.yaml";

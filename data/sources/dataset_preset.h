@@ -46,6 +46,10 @@ class YamlOptionsReader;
 // line's). Errors name file, line and key.
 void readPlaybackConfig(YamlOptionsReader& r, PlaybackOptions* options);
 
+// How a folder was made, for the run config's sensor class: not by `adugs sim`; by it with a
+// simulated IMU (mode: synthetic); or rendered along a real flight's IMU (mode: hybrid).
+enum class SimFolder { kNone, kSynthetic, kHybrid };
+
 struct OpenedSequence {
   std::unique_ptr<SequenceSource> source;
   CameraCalibration camera;
@@ -54,10 +58,8 @@ struct OpenedSequence {
   std::string gt_path;   // ground-truth file to evaluate against ("" if none)
   std::string mask_dir;  // the simulator's per-frame dynamic masks (ASL folders only; "" if none)
   std::string objects_path;  // beside them, the movers' boxes with their classes (mav0/objects0/gt.txt)
-  // An ASL folder written by `adugs sim` with simulated IMU data (mav0/sim.yaml, mode: synthetic);
-  // a hybrid one (rendered images along a real flight's IMU, mode: hybrid) is not: it is `hybrid`.
-  bool simulated = false;
-  bool hybrid = false;
+  // What mav0/sim.yaml says of a folder written by `adugs sim` (its `mode:`).
+  SimFolder sim_folder = SimFolder::kNone;
   std::string calibration_from;  // where the calibration came from, for the run summary
   // Calibration files it was read from that may carry adugs calib's verdict: the user's Kalibr
   // files, an ASL folder's own cam0/sensor.yaml.

@@ -29,27 +29,27 @@ data::CameraCalibration camera(double rate_hz, std::vector<double> distortion) {
 
 TEST(RunConfigChoice, SensorClassFromRateAndDistortion) {
   const std::vector<double> radtan{-0.28, 0.07, 2e-4, 2e-5}, none{0, 0, 0, 0};
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false, false).name, "euroc.yaml");  // EuRoC cam0
-  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false, false).name, "sim.yaml");      // adugs sim, VIODE
-  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false, false).name, "d435i.yaml");    // D435i IR, OpenLORIS
-  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), false, false).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), data::SimFolder::kNone).name, "euroc.yaml");  // EuRoC cam0
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none), data::SimFolder::kNone).name, "sim.yaml");      // adugs sim, VIODE
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none), data::SimFolder::kNone).name, "d435i.yaml");    // D435i IR, OpenLORIS
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), data::SimFolder::kNone).name, "d435i.yaml");
   data::CameraCalibration fisheye = camera(20, none);  // TUM-VI: equidistant, a real lens
   fisheye.distortion_model = data::DistortionModel::kEquidistant;
-  EXPECT_EQ(app::chooseRunConfig(fisheye, false, false).name, "euroc.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none), false, false).name, "sim.yaml");    // the boundary: 25 Hz
-  EXPECT_EQ(app::chooseRunConfig(camera(25, none), false, false).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(fisheye, data::SimFolder::kNone).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(24.9, none), data::SimFolder::kNone).name, "sim.yaml");    // the boundary: 25 Hz
+  EXPECT_EQ(app::chooseRunConfig(camera(25, none), data::SimFolder::kNone).name, "d435i.yaml");
   // Unknown rate (a bag with one image): the EuRoC class, and the reason says so.
-  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none), false, false);
+  const app::RunConfigChoice unknown = app::chooseRunConfig(camera(0, none), data::SimFolder::kNone);
   EXPECT_EQ(unknown.name, "euroc.yaml");
   EXPECT_NE(unknown.reason.find("rate unknown"), std::string::npos) << unknown.reason;
   // A folder of `adugs sim` has EuRoC's lens distortion (and may run at 30 Hz): the folder tells.
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), true, false).name, "sim.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), true, false).name, "sim.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), data::SimFolder::kSynthetic).name, "sim.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(30, radtan), data::SimFolder::kSynthetic).name, "sim.yaml");
   // A hybrid folder (rendered images along a real flight's IMU) below 25 Hz takes the real IMU's
   // class, with or without lens distortion in its renders; at 30 Hz the D435i's, as any camera.
-  EXPECT_EQ(app::chooseRunConfig(camera(20, none), false, true).name, "euroc.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), false, true).name, "euroc.yaml");
-  EXPECT_EQ(app::chooseRunConfig(camera(30, none), false, true).name, "d435i.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, none), data::SimFolder::kHybrid).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(20, radtan), data::SimFolder::kHybrid).name, "euroc.yaml");
+  EXPECT_EQ(app::chooseRunConfig(camera(30, none), data::SimFolder::kHybrid).name, "d435i.yaml");
 }
 
 data::OpenedSequence sequenceWith(const data::CameraCalibration& c) {

@@ -47,11 +47,11 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
       T_B_C_calibrated_(T_B_C),
       td_(options.time_offset_s),
       imu_options_(imu_options) {
-  imu_options_.accel_noise_density *= options_.accel_noise_inflation;
   if (!(focal_px > 0))
     throw std::invalid_argument("SlidingWindowEstimator: focal length must be positive");
   if (!(options_.accel_noise_inflation > 0))
     throw std::invalid_argument("SlidingWindowEstimator: accel_noise_inflation must be positive");
+  imu_options_.accel_noise_density *= options_.accel_noise_inflation;
   if (options_.window_size < 4 ||
       options_.init.min_frames > std::min(options_.init_window_size, options_.window_size))
     throw std::invalid_argument(
