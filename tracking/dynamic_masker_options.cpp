@@ -58,6 +58,7 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
     m.optional("cell_px", c.cell_px, 4, 1000);
     m.optional("klt_window_px", c.klt_window_px, 5, 101);
     m.optional("klt_pyramid_levels", c.klt_pyramid_levels, 0, 6);
+    m.optional("still_pyramid_levels", c.still_pyramid_levels, 0, 6);
     m.optional("corner_quality", c.corner_quality, 1e-12, 1.0);  // MotionCue needs > 0
     m.optional("threshold_px", c.threshold_px, 0.01, 100.0);
     m.optional("strong_threshold_px", c.strong_threshold_px, 0.01, 1000.0);

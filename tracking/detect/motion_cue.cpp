@@ -28,6 +28,13 @@ double epipolarAngle(const Eigen::Vector3d& t, const Eigen::Vector3d& a, const E
   return std::asin(std::min(1.0, std::abs(normal.dot(b)) / n));
 }
 
+// A still point tracked on few levels is kept when its window's mean absolute difference is at
+// most this (grey levels), else it is tracked again on all. On a textured scene a point that
+// jumped beyond those levels' reach converges on the wrong texture and still passes the back
+// check (that starts at the original point): its difference is 14-40; a moving-box flight's
+// still points are below 2 in 97 % of frames.
+constexpr double kStillMaxErrorGrey = 8;
+
 // Disjoint sets for grouping the moving points.
 int findRoot(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -42,10 +49,10 @@ MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& op
       focal_px_(camera.centreFocalPx()),
       grid_cols_((camera.width() + options.cell_px - 1) / std::max(1, options.cell_px)),
       grid_rows_((camera.height() + options.cell_px - 1) / std::max(1, options.cell_px)) {
-  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.klt_pyramid_levels < 0 || options_.min_points < 1 || options_.threshold_px <= 0 ||
+  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.klt_pyramid_levels < 0 || options_.still_pyramid_levels < 0 || options_.min_points < 1 || options_.threshold_px <= 0 ||
       options_.strong_threshold_px < options_.threshold_px || options_.group_radius_px <= 0 ||
       options_.ransac_iterations < 1 || options_.corner_quality <= 0)
-    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, klt_pyramid_levels >= 0, min_points >= 1 and positive thresholds, radius, quality and iterations");
+    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, klt_pyramid_levels >= 0, still_pyramid_levels >= 0, min_points >= 1 and positive thresholds, radius, quality and iterations");
 }
 
 std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
@@ -61,10 +68,9 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   points_.clear();
   translating_ = false;
   // Pyramids are built once per frame and kept for the next one.
-  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   const int levels = options_.klt_pyramid_levels;
   std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(grey, pyramid, window, levels);
+  cv::buildOpticalFlowPyramid(grey, pyramid, cv::Size(options_.klt_window_px, options_.klt_window_px), levels);
   if (previous_pyramid_.empty() || previous_pyramid_[0].size() != grey.size()) {
     tracks_.clear();
     previous_pyramid_ = std::move(pyramid);
@@ -72,46 +78,43 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
     return {};
   }
 
-  // 1. The previous points tracked into this frame, started where the rotation puts them,
-  //    checked by tracking back.
-  std::vector<cv::Point2f> from, to, back;
-  std::vector<Eigen::Vector3d> from_rays;
-  std::vector<Track> kept;
-  for (const Track& t : tracks_) {
-    Eigen::Vector3d a;
+  // 1. The previous points tracked into this frame, started where the rotation puts them plus
+  //    the drift they had after it last frame (a static point's parallax changes slowly; an
+  //    object's motion too, over a frame), checked by tracking back. A still point, so started,
+  //    needs few pyramid levels; the others and the still ones lost that way take them all.
+  const size_t n = tracks_.size();
+  std::vector<cv::Point2f> from(n), to(n);
+  std::vector<cv::Point2f> rotated(n);  // where the rotation alone puts each point
+  std::vector<Eigen::Vector3d> from_rays(n);
+  std::vector<uint8_t> usable(n, 0);
+  std::vector<size_t> near_pass, full_pass;
+  for (size_t i = 0; i < n; ++i) {
+    const Track& t = tracks_[i];
     Eigen::Vector2d predicted;
-    if (!camera_.unproject(Eigen::Vector2d(t.pixel.x, t.pixel.y), &a)) continue;
-    if (!camera_.project(R_Ccur_Cprev * a, &predicted)) predicted = Eigen::Vector2d(t.pixel.x, t.pixel.y);
-    from.push_back(t.pixel);
-    from_rays.push_back(a);
-    to.emplace_back(static_cast<float>(predicted.x()), static_cast<float>(predicted.y()));
-    kept.push_back(t);
+    if (!camera_.unproject(Eigen::Vector2d(t.pixel.x, t.pixel.y), &from_rays[i])) continue;
+    if (!camera_.project(R_Ccur_Cprev * from_rays[i], &predicted)) predicted = Eigen::Vector2d(t.pixel.x, t.pixel.y);
+    usable[i] = 1;
+    from[i] = t.pixel;
+    rotated[i] = cv::Point2f(static_cast<float>(predicted.x()), static_cast<float>(predicted.y()));
+    to[i] = rotated[i] + t.drift;
+    (isStill(t) ? near_pass : full_pass).push_back(i);
   }
-  tracks_ = std::move(kept);
-  kept.clear();
+  std::vector<uint8_t> tracked(n, 0);
+  trackPoints(previous_pyramid_, pyramid, std::min(levels, options_.still_pyramid_levels), kStillMaxErrorGrey, near_pass, from, &to, &tracked);
+  for (size_t i : near_pass)
+    if (!tracked[i]) to[i] = rotated[i], full_pass.push_back(i);
+  trackPoints(previous_pyramid_, pyramid, levels, std::numeric_limits<double>::infinity(), full_pass, from, &to, &tracked);
+
   std::vector<Eigen::Vector3d> previous_rays, rays;
-  if (!from.empty()) {
-    std::vector<uint8_t> ok, ok_back;
-    std::vector<float> error;
-    const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03);
-    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, from, to, ok, error, window, levels, stop,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
-    // Started at the original point, a consistent track needs no pyramid to come back: the
-    // check runs on the full-resolution level alone, at a fraction of the forward cost.
-    back = from;
-    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, to, back, ok_back, error, window, 0,
-                             cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 0.03),
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
-    for (size_t i = 0; i < from.size(); ++i) {
-      if (!ok[i] || !ok_back[i] || cv::norm(back[i] - from[i]) > 1.0) continue;
-      if (!camera_.inImage(to[i].x, to[i].y, 1.0)) continue;
-      Eigen::Vector3d b;
-      if (!camera_.unproject(Eigen::Vector2d(to[i].x, to[i].y), &b)) continue;
-      // 2. The camera's rotation removed: where the previous ray points in this camera.
-      previous_rays.push_back((R_Ccur_Cprev * from_rays[i]).normalized());
-      rays.push_back(b.normalized());
-      kept.push_back({to[i], tracks_[i].history, static_cast<uint8_t>(std::min(255, tracks_[i].age + 1))});
-    }
+  std::vector<Track> kept;
+  for (size_t i = 0; i < n; ++i) {
+    if (!usable[i] || !tracked[i] || !camera_.inImage(to[i].x, to[i].y, 1.0)) continue;
+    Eigen::Vector3d b;
+    if (!camera_.unproject(Eigen::Vector2d(to[i].x, to[i].y), &b)) continue;
+    // 2. The camera's rotation removed: where the previous ray points in this camera.
+    previous_rays.push_back((R_Ccur_Cprev * from_rays[i]).normalized());
+    rays.push_back(b.normalized());
+    kept.push_back({to[i], to[i] - rotated[i], tracks_[i].history, static_cast<uint8_t>(std::min(255, tracks_[i].age + 1))});
   }
   tracks_ = std::move(kept);
   keepOnePerCell(&previous_rays, &rays);
@@ -125,7 +128,7 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
     Track& t = tracks_[i];
     t.history = static_cast<uint8_t>((t.history << 1) | (r[i] > options_.threshold_px ? 1 : 0));
     const bool moves = std::bitset<3>(t.history & 7u).count() >= 2 || r[i] > options_.strong_threshold_px;
-    const bool still = t.age >= 2 && (t.history & 3u) == 0;
+    const bool still = isStill(t);
     MotionCuePoint p{t.pixel, moves, still, r[i]};
     const Eigen::Vector3d line = d.cross(previous_rays[i]);  // a x b of a static point, times its range
     if (const double n = line.norm(); n > 1e-12) {
@@ -138,6 +141,32 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   previous_pyramid_ = std::move(pyramid);
   topUp(grey);
   return group(moving);
+}
+
+bool MotionCue::isStill(const Track& t) { return t.age >= 2 && (t.history & 3u) == 0; }
+
+void MotionCue::trackPoints(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& pyramid, int levels, double max_error,
+                            const std::vector<size_t>& which, const std::vector<cv::Point2f>& from,
+                            std::vector<cv::Point2f>* to, std::vector<uint8_t>* tracked) const {
+  if (which.empty()) return;
+  std::vector<cv::Point2f> a, b, back;
+  for (size_t i : which) a.push_back(from[i]), b.push_back((*to)[i]);
+  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
+  std::vector<uint8_t> ok, ok_back;
+  std::vector<float> forward_error, error;
+  cv::calcOpticalFlowPyrLK(previous_pyramid, pyramid, a, b, ok, forward_error, window, levels,
+                           cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03),
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  // Started at the original point, a consistent track needs no pyramid to come back: the check
+  // runs on the full-resolution level alone, at a fraction of the forward cost.
+  back = a;
+  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid, b, back, ok_back, error, window, 0,
+                           cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 0.03),
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (size_t k = 0; k < which.size(); ++k) {
+    (*to)[which[k]] = b[k];
+    (*tracked)[which[k]] = ok[k] && ok_back[k] && cv::norm(back[k] - a[k]) <= 1.0 && forward_error[k] <= max_error;
+  }
 }
 
 std::vector<double> MotionCue::residuals(const std::vector<Eigen::Vector3d>& previous_rays,
@@ -285,9 +314,11 @@ void MotionCue::topUp(const cv::Mat& grey) {
   std::vector<uint8_t> taken(static_cast<size_t>(grid_cols_ * grid_rows_), 0);
   for (const Track& t : tracks_) taken[static_cast<size_t>(cellOf(t.pixel))] = 1;
   // Corner strength at half resolution: a quarter of the cost, and a cell's best corner is
-  // needed to a pixel only (KLT tracks the window around it).
+  // needed to a pixel only (KLT tracks the window around it). The pyramid has that level
+  // (images and their derivatives alternate in it).
   cv::Mat half, strength;
-  cv::pyrDown(grey, half);
+  if (previous_pyramid_.size() > 2) half = previous_pyramid_[2];
+  else cv::pyrDown(grey, half);
   cv::cornerMinEigenVal(half, strength, 3, 3);
   double strongest = 0;
   cv::minMaxLoc(strength, nullptr, &strongest);
@@ -303,7 +334,7 @@ void MotionCue::topUp(const cv::Mat& grey) {
       if (best < floor) continue;
       const cv::Point2f pixel(std::min(2.0f * (area.x + at.x) + 0.5f, grey.cols - 1.0f),
                               std::min(2.0f * (area.y + at.y) + 0.5f, grey.rows - 1.0f));
-      tracks_.push_back({pixel, 0, 0});
+      tracks_.push_back({pixel, cv::Point2f(0, 0), 0, 0});
       points_.push_back({pixel, false, false, 0});
     }
 }

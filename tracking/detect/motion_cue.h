@@ -5,7 +5,8 @@
 // object that moves is found, of whatever class; an object that stands still is not.
 // Per frame:
 //   1. points: the previous frame's points tracked by pyramidal KLT from where the gyro's rotation
-//      puts them (kept when the backward track returns within 1 px), topped up with the strongest corner (minimum eigenvalue, at
+//      and their last drift put them (kept when the backward track returns within 1 px; a still
+//      point on fewer levels, again on all when lost so), topped up with the strongest corner (minimum eigenvalue, at
 //      half resolution: a quarter of the cost) of every cell_px grid cell that has no point, so that every textured part of the image, a small
 //      object's included, has points (the strongest corners of the whole image crowd into the
 //      most contrasted texture);
@@ -55,6 +56,11 @@ struct MotionCueOptions {
   // on the moving-box flights, street cars +0.03-0.11 over 8 seeds, the wall unchanged
   // (doc/results.md, "The cue's KLT reach").
   int klt_pyramid_levels = 3;
+  // Levels for a still point (MotionCuePoint::still), started where the rotation and its last
+  // drift put it: the static scene, most of the points, needs little reach (3 -> 2: the masked
+  // run's wall 0.95x on a moving-box flight, recall and precision the same; doc/results.md,
+  // "Still points on fewer levels"). One lost that way is tracked again on klt_pyramid_levels.
+  int still_pyramid_levels = 2;
   // Of the image's strongest corner: weaker cells get no point. Low: the plain textures of
   // vehicles and walls are where movers lose their points (0.001 -> 0.0001: moving-pixel recall
   // 0.50 -> 0.67 over 9 simulated sequences, street 0.33 -> 0.61; doc/results.md).
@@ -109,6 +115,7 @@ class MotionCue {
  private:
   struct Track {
     cv::Point2f pixel;
+    cv::Point2f drift;    // last frame's motion beyond where the rotation put it (px)
     uint8_t history = 0;  // bit k: moved k frames ago (bit 0: this frame)
     uint8_t age = 0;      // frames tracked (saturates)
   };
@@ -120,6 +127,12 @@ class MotionCue {
                                  const std::vector<Eigen::Vector3d>& rays);
   std::vector<Detection> group(const std::vector<cv::Point2f>& moving) const;
   int cellOf(const cv::Point2f& pixel) const;
+  static bool isStill(const Track& t);
+  // KLT of the points `which` from `from` (started at *to) over `levels`, checked by tracking
+  // back: *to and *tracked set at those indices.
+  void trackPoints(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& pyramid, int levels, double max_error,
+                   const std::vector<size_t>& which, const std::vector<cv::Point2f>& from,
+                   std::vector<cv::Point2f>* to, std::vector<uint8_t>* tracked) const;
   // One track per grid cell (the rays of the kept tracks kept beside them).
   void keepOnePerCell(std::vector<Eigen::Vector3d>* previous_rays, std::vector<Eigen::Vector3d>* rays);
   void topUp(const cv::Mat& grey);
