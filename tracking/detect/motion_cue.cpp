@@ -31,8 +31,8 @@ double epipolarAngle(const Eigen::Vector3d& t, const Eigen::Vector3d& a, const E
 // A still point tracked on few levels is kept when its window's mean absolute difference is at
 // most this (grey levels), else it is tracked again on all. On a textured scene a point that
 // jumped beyond those levels' reach converges on the wrong texture and still passes the back
-// check (that starts at the original point): its difference is 14-40; a moving-box flight's
-// still points are below 2 in 97 % of frames.
+// check (that starts at the original point): its difference is 14-40. On a moving-box flight 89 %
+// of the still points' tracks are below 2, and 0.5 % above 8 pass the back check.
 constexpr double kStillMaxErrorGrey = 8;
 
 // Disjoint sets for grouping the moving points.
