@@ -211,8 +211,10 @@ TEST(CmdRunVioMotionCue, MasksTheMoversOfTheRoomWithoutAModel) {
 
 // Where nothing moves, every mask is a false box of the cue, and a few static features dropped can
 // cost the estimator (doc/results.md, "Fewer false boxes"). A box needs four moving points by
-// default: on this room, 10 s at level none, the false mask is 0.17 % of the image against 0.36 %
-// with three points (seeds 7 and 10: 0.66 / 1.64 % and 0.22 / 0.44 %).
+// default: on this room, 10 s at level none, the false mask is 0.15 % of the image against 0.24 %
+// with three points (0.17 / 0.36 % before the still points' tracking of 2026-12-07, which lost
+// fewer of them and made fewer false movers at either count; seeds 7 and 10 then: 0.66 / 1.64 %
+// and 0.22 / 0.44 %).
 TEST(CmdRunVioMotionCue, FourMovingPointsMakeABoxSoAStaticRoomIsBarelyMasked) {
   TempDir seq("adugs_run_motion_static");
   std::string log;
@@ -232,8 +234,8 @@ TEST(CmdRunVioMotionCue, FourMovingPointsMakeABoxSoAStaticRoomIsBarelyMasked) {
   const double four_points = summaryNumber(out / "default/summary.yaml", "masked_image_fraction");
   const double three_points = summaryNumber(out / "three/summary.yaml", "masked_image_fraction");
   EXPECT_GT(three_points, 0.0);  // the cue did run and found its usual false boxes
-  EXPECT_LE(four_points, 0.6 * three_points) << four_points << " against " << three_points;
-  EXPECT_LT(four_points, 0.004);
+  EXPECT_LE(four_points, 0.75 * three_points) << four_points << " against " << three_points;
+  EXPECT_LT(four_points, 0.0025);
 }
 
 TEST_F(CmdRunVioSim, MaskOfTheWrongSizeIsAnErrorNamingTheFile) {
