@@ -283,7 +283,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_EQ(o.motion_cue.cell_px, MotionCueOptions().cell_px);  // no motion_cue: map: the code's
 
   data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
-      "motion_cue:\n  cell_px: 32\n  klt_pyramid_levels: 4\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
+      "motion_cue:\n  cell_px: 32\n  klt_pyramid_levels: 4\n  still_pyramid_levels: 1\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
       "  translation_min_gain: 0.2\n"
       "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 6\n  box_margin: 0.2\n",
       "dynamic.yaml");
@@ -291,6 +291,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   cue.finish();
   EXPECT_EQ(o.motion_cue.cell_px, 32);
   EXPECT_EQ(o.motion_cue.klt_pyramid_levels, 4);
+  EXPECT_EQ(o.motion_cue.still_pyramid_levels, 1);
   EXPECT_DOUBLE_EQ(o.motion_cue.corner_quality, 0.01);
   EXPECT_DOUBLE_EQ(o.motion_cue.threshold_px, 2.5);
   EXPECT_DOUBLE_EQ(o.motion_cue.strong_threshold_px, 6);
@@ -319,6 +320,7 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   expectRefused("grabcut:\n  iterations: 0\n", "iterations");
   expectRefused("grabcut:\n  max_sides: 64\n", "max_sides");
   expectRefused("motion_cue:\n  klt_pyramid_levels: 7\n", "klt_pyramid_levels");  // beyond a 752 px image's pyramid
+  expectRefused("motion_cue:\n  still_pyramid_levels: -1\n", "still_pyramid_levels");
   expectRefused("motion_cue:\n  threshold_px: 0\n", "threshold_px");
   expectRefused("motion_cue:\n  threshhold_px: 2\n", "threshhold_px");
   expectRefused("motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n", "strong_threshold_px");

@@ -263,6 +263,9 @@ TEST(MotionCue, BadInputsAreRejected) {
   o = MotionCueOptions{};
   o.klt_pyramid_levels = -1;
   EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
+  o = MotionCueOptions{};
+  o.still_pyramid_levels = -1;
+  EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
   // A blank frame has no corners: no points, no boxes, no failure.
   const cv::Mat blank(480, 752, CV_8UC1, cv::Scalar(90));
   EXPECT_TRUE(cue.detect(blank, Eigen::Matrix3d::Identity()).empty());

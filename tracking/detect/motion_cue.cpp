@@ -86,29 +86,27 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   std::vector<cv::Point2f> from(n), to(n);
   std::vector<cv::Point2f> rotated(n);  // where the rotation alone puts each point
   std::vector<Eigen::Vector3d> from_rays(n);
-  std::vector<uint8_t> usable(n, 0);
   std::vector<size_t> near_pass, full_pass;
   for (size_t i = 0; i < n; ++i) {
     const Track& t = tracks_[i];
     Eigen::Vector2d predicted;
     if (!camera_.unproject(Eigen::Vector2d(t.pixel.x, t.pixel.y), &from_rays[i])) continue;
     if (!camera_.project(R_Ccur_Cprev * from_rays[i], &predicted)) predicted = Eigen::Vector2d(t.pixel.x, t.pixel.y);
-    usable[i] = 1;
     from[i] = t.pixel;
     rotated[i] = cv::Point2f(static_cast<float>(predicted.x()), static_cast<float>(predicted.y()));
     to[i] = rotated[i] + t.drift;
     (isStill(t) ? near_pass : full_pass).push_back(i);
   }
   std::vector<uint8_t> tracked(n, 0);
-  trackPoints(previous_pyramid_, pyramid, std::min(levels, options_.still_pyramid_levels), kStillMaxErrorGrey, near_pass, from, &to, &tracked);
+  trackPoints(pyramid, std::min(levels, options_.still_pyramid_levels), kStillMaxErrorGrey, near_pass, from, &to, &tracked);
   for (size_t i : near_pass)
     if (!tracked[i]) to[i] = rotated[i], full_pass.push_back(i);
-  trackPoints(previous_pyramid_, pyramid, levels, std::numeric_limits<double>::infinity(), full_pass, from, &to, &tracked);
+  trackPoints(pyramid, levels, std::numeric_limits<double>::infinity(), full_pass, from, &to, &tracked);
 
   std::vector<Eigen::Vector3d> previous_rays, rays;
   std::vector<Track> kept;
   for (size_t i = 0; i < n; ++i) {
-    if (!usable[i] || !tracked[i] || !camera_.inImage(to[i].x, to[i].y, 1.0)) continue;
+    if (!tracked[i] || !camera_.inImage(to[i].x, to[i].y, 1.0)) continue;
     Eigen::Vector3d b;
     if (!camera_.unproject(Eigen::Vector2d(to[i].x, to[i].y), &b)) continue;
     // 2. The camera's rotation removed: where the previous ray points in this camera.
@@ -145,7 +143,7 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
 
 bool MotionCue::isStill(const Track& t) { return t.age >= 2 && (t.history & 3u) == 0; }
 
-void MotionCue::trackPoints(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& pyramid, int levels, double max_error,
+void MotionCue::trackPoints(const std::vector<cv::Mat>& pyramid, int levels, double max_error,
                             const std::vector<size_t>& which, const std::vector<cv::Point2f>& from,
                             std::vector<cv::Point2f>* to, std::vector<uint8_t>* tracked) const {
   if (which.empty()) return;
@@ -154,13 +152,13 @@ void MotionCue::trackPoints(const std::vector<cv::Mat>& previous_pyramid, const 
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   std::vector<uint8_t> ok, ok_back;
   std::vector<float> forward_error, error;
-  cv::calcOpticalFlowPyrLK(previous_pyramid, pyramid, a, b, ok, forward_error, window, levels,
+  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, a, b, ok, forward_error, window, levels,
                            cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.03),
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   // Started at the original point, a consistent track needs no pyramid to come back: the check
   // runs on the full-resolution level alone, at a fraction of the forward cost.
   back = a;
-  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid, b, back, ok_back, error, window, 0,
+  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, b, back, ok_back, error, window, 0,
                            cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 5, 0.03),
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < which.size(); ++k) {

@@ -128,9 +128,10 @@ class MotionCue {
   std::vector<Detection> group(const std::vector<cv::Point2f>& moving) const;
   int cellOf(const cv::Point2f& pixel) const;
   static bool isStill(const Track& t);
-  // KLT of the points `which` from `from` (started at *to) over `levels`, checked by tracking
-  // back: *to and *tracked set at those indices.
-  void trackPoints(const std::vector<cv::Mat>& previous_pyramid, const std::vector<cv::Mat>& pyramid, int levels, double max_error,
+  // KLT of the points `which` from `from` in the previous frame (started at *to) into `pyramid`
+  // over `levels`, checked by tracking back and by the window's mean difference (at most
+  // max_error grey levels): *to and *tracked set at those indices.
+  void trackPoints(const std::vector<cv::Mat>& pyramid, int levels, double max_error,
                    const std::vector<size_t>& which, const std::vector<cv::Point2f>& from,
                    std::vector<cv::Point2f>* to, std::vector<uint8_t>* tracked) const;
   // One track per grid cell (the rays of the kept tracks kept beside them).

@@ -10,8 +10,8 @@ void checkMasks(const cv::Mat& exact, const cv::Mat& mask) {
     throw std::invalid_argument("maskOverlap: two CV_8UC1 masks of the same size");
 }
 
-// Counts over `roi`, where `inside` (of roi's size, or empty for all of it) is nonzero. Byte
-// arithmetic a row at a time, so that the compiler vectorises it: it runs on every frame.
+// Counts over `roi`, where `inside` (of roi's size, or empty for all of it) is nonzero. Whether
+// there is an `inside` is decided once per row, not per pixel: this runs on every frame.
 MaskOverlap count(const cv::Mat& exact, const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& inside) {
   MaskOverlap o;
   for (int y = roi.y; y < roi.y + roi.height; ++y) {
