@@ -22,21 +22,19 @@ cv::Mat GrabCutSegmenter::segmentWithPoints(const cv::Mat& image, const std::vec
                                             const std::vector<PointPrompt>& points) {
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
     throw std::invalid_argument("GrabCutSegmenter: image must be 8-bit grey or BGR");
-  cv::Mat bgr = image;
-  if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
   fallbacks_ = 0;
   cv::Mat mask = cv::Mat::zeros(image.size(), CV_8UC1);
   for (const Box& b : boxes) {
     const cv::Rect r = clippedRect(b, image.cols, image.rows);
     if (r.empty()) continue;
-    cv::Mat object = segmentOne(bgr, b, r, points);
+    cv::Mat object = segmentOne(image, b, r, points);
     cv::Mat target = mask(r);
     cv::bitwise_or(target, object, target);
   }
   return mask;
 }
 
-cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect,
+cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& image, const Box& box, const cv::Rect& box_rect,
                                      const std::vector<PointPrompt>& points) {
   cv::Mat filled(box_rect.size(), CV_8UC1, cv::Scalar(255));
   if (std::min(box_rect.width, box_rect.height) < options_.min_box_side) {
@@ -47,15 +45,18 @@ cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& bgr, const Box& box, const c
   Box grown = box;
   grown.w *= 1 + 2 * options_.margin;
   grown.h *= 1 + 2 * options_.margin;
-  const cv::Rect region = clippedRect(grown, bgr.cols, bgr.rows);
+  const cv::Rect region = clippedRect(grown, image.cols, image.rows);
   const auto inBox = [&](const PointPrompt& p) {
     return box_rect.contains(cv::Point(static_cast<int>(p.pixel.x), static_cast<int>(p.pixel.y)));
   };
   const bool prompted = std::any_of(points.begin(), points.end(), inBox);
   const int max_side = prompted ? options_.prompted_max_side : options_.max_side;
   const double scale = std::min(1.0, static_cast<double>(max_side) / std::max(region.width, region.height));
+  // A grey image is made colour (GrabCut's models are of colour) after the downscaling: the same
+  // pixels as downscaling its colour copy, for a fraction of the work.
   cv::Mat small;
-  cv::resize(bgr(region), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(image(region), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  if (small.channels() == 1) cv::cvtColor(small, small, cv::COLOR_GRAY2BGR);
   cv::Rect box_small(cv::Point(static_cast<int>((box_rect.x - region.x) * scale),
                                static_cast<int>((box_rect.y - region.y) * scale)),
                      cv::Size(std::max(1, static_cast<int>(box_rect.width * scale)),

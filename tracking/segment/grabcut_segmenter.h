@@ -44,8 +44,8 @@ class GrabCutSegmenter : public BoxSegmenter {
   int lastFallbacks() const { return fallbacks_; }
 
  private:
-  // Object pixels of one box, CV_8UC1 of the clipped box size.
-  cv::Mat segmentOne(const cv::Mat& bgr, const Box& box, const cv::Rect& box_rect,
+  // Object pixels of one box, CV_8UC1 of the clipped box size; image grey or BGR.
+  cv::Mat segmentOne(const cv::Mat& image, const Box& box, const cv::Rect& box_rect,
                      const std::vector<PointPrompt>& points);
   GrabCutOptions options_;
   int fallbacks_ = 0;
