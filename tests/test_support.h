@@ -59,6 +59,17 @@ bool inputsRequired();
                          << (path) << " (set ADUGS_SHARED_DATA to the shared/data folder)");   \
   } while (0)
 
+// OpenCV's pedestrian video (Debian's opencv-doc; PETS09-S2L1, 795 frames at 7 fps, a static
+// camera over a square): the tests' real video.
+inline const std::string kPedestrianVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+
+// Skips (or, under CI, fails) the current test when the pedestrian video is not installed.
+#define ADUGS_REQUIRE_PEDESTRIAN_VIDEO()                                                           \
+  do {                                                                                             \
+    if (!std::filesystem::exists(adugs::test::kPedestrianVideo))                                   \
+      ADUGS_SKIP_OR_FAIL(adugs::test::kPedestrianVideo << " missing: run scripts/setup.sh (package opencv-doc)"); \
+  } while (0)
+
 // A fresh empty directory under the system temp dir, removed by the destructor.
 class TempDir {
  public:

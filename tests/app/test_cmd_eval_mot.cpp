@@ -366,8 +366,8 @@ TEST(CmdTrack, MotionCueAloneTracksAndMasksWhatMoves) {
 TEST(CmdTrack, ImageFolderWithMasksAndOverlay) {
   const auto weights = sharedModelsDir() / "yolo-fastest-1.1_coco/yolo-fastest-1.1-xl.weights";
   ADUGS_REQUIRE_SHARED(weights);
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  ASSERT_TRUE(std::filesystem::exists(video)) << video << " missing: run scripts/setup.sh (opencv-doc)";
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
   TempDir dir;
   std::filesystem::create_directories(dir / "frames");
   {
@@ -444,8 +444,8 @@ TEST(CmdTrack, ImageFolderWithMasksAndOverlay) {
 TEST(CmdTrack, DetectorOnARealVideo) {
   const auto weights = sharedModelsDir() / "yolo-fastest-1.1_coco/yolo-fastest-1.1-xl.weights";
   ADUGS_REQUIRE_SHARED(weights);
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  ASSERT_TRUE(std::filesystem::exists(video)) << video << " missing: run scripts/setup.sh (opencv-doc)";
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
   TempDir dir;
   {  // a 40-frame clip keeps the test short
     cv::VideoCapture in(video);

@@ -233,8 +233,8 @@ TEST_F(CmdLive, SigintWhileRecordingKeepsACompleteShorterRecording) {
 // A video played as a live camera, vision only: the masking and tracking view written as a video,
 // one view frame per processed frame, no trajectory.
 TEST(CmdLiveVideo, VideoPlayedAsACameraWritesTheTrackingView) {
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  ADUGS_REQUIRE_SHARED(video);
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
   TempDir out;
   std::string log;
   ASSERT_EQ(runAdugs("live --video " + video + " --duration 2 --no-window --overlay " + (out / "view.avi").string() +
@@ -258,8 +258,8 @@ TEST(CmdLiveVideo, VideoPlayedAsACameraWritesTheTrackingView) {
 // for a video, a webcam or an image format other than PNG/JPEG: without it a video stops before
 // any frame naming the file and the module, while simulating and running a PNG sequence work.
 TEST(CmdLiveVideo, WithoutTheMediaModuleVideosStopAndPngSequencesRun) {
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  ADUGS_REQUIRE_SHARED(video);
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
   TempDir out;
   const std::string without = "ADUGS_MEDIA_MODULE=/nonexistent/libadugs_media.so " + std::string(ADUGS_BINARY);
   std::string log;
@@ -283,9 +283,9 @@ TEST(CmdLiveVideo, WithoutTheMediaModuleVideosStopAndPngSequencesRun) {
 }
 
 TEST(CmdLiveVideo, DetectorMasksThePeopleOfTheVideo) {
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+  const std::string& video = test::kPedestrianVideo;
   const auto model = sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
-  ADUGS_REQUIRE_SHARED(video);
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
   ADUGS_REQUIRE_SHARED(model);
   TempDir out;
   std::string log;
@@ -306,26 +306,31 @@ TEST(CmdLiveErrors, BadSourcesAreErrorsNamingTheProblem) {
   std::string log;
   EXPECT_EQ(runAdugs("live --no-window --out " + out.path().string(), &log), 2) << log;
   EXPECT_NE(log.find("--replay"), std::string::npos) << log;
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  if (fs::exists(video)) {
-    EXPECT_EQ(runAdugs("live --video " + video + " --replay " + out.path().string() + " --out " + out.path().string(),
-                       &log),
-              2)
-        << log;
-    EXPECT_NE(log.find("one source"), std::string::npos) << log;
-    writeText(out / "imu.yaml", "imu0:\n  accelerometer_noise_density: 0.01\n  accelerometer_random_walk: 0.0002\n"
-                                "  gyroscope_noise_density: 0.005\n  gyroscope_random_walk: 4.0e-06\n");
-    EXPECT_EQ(runAdugs("live --video " + video + " --kalibr-imu " + (out / "imu.yaml").string() + " --out " +
-                           out.path().string(),
-                       &log),
-              2)
-        << log;
-    EXPECT_NE(log.find("no IMU"), std::string::npos) << log;
-  }
   EXPECT_EQ(runAdugs("live --v4l2 /dev/video-adugs-none --out " + out.path().string(), &log), 2) << log;
   EXPECT_NE(log.find("/dev/video-adugs-none"), std::string::npos) << log;
   EXPECT_EQ(runAdugs("record --v4l2 /dev/video-adugs-none --out " + (out / "r").string(), &log), 2) << log;
   EXPECT_NE(log.find("/dev/video-adugs-none"), std::string::npos) << log;
+}
+
+// A video with a second source, or with an IMU calibration (a video has no IMU).
+TEST(CmdLiveErrors, AVideoWithAnotherSourceOrAnImuIsAnError) {
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
+  TempDir out;
+  std::string log;
+  EXPECT_EQ(runAdugs("live --video " + video + " --replay " + out.path().string() + " --out " + out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("one source"), std::string::npos) << log;
+  writeText(out / "imu.yaml", "imu0:\n  accelerometer_noise_density: 0.01\n  accelerometer_random_walk: 0.0002\n"
+                              "  gyroscope_noise_density: 0.005\n  gyroscope_random_walk: 4.0e-06\n");
+  EXPECT_EQ(runAdugs("live --video " + video + " --kalibr-imu " + (out / "imu.yaml").string() + " --out " +
+                         out.path().string(),
+                     &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("no IMU"), std::string::npos) << log;
 }
 
 // A sequence whose camera file adugs calib marked weak, recorded: `adugs record` warns, names it in

@@ -136,31 +136,35 @@ TEST(CalibEndToEnd, RenderedImagesThroughTheCliRecoverTheCamera) {
   EXPECT_TRUE(fs::exists(tmp / "out" / "corners" / "0.csv"));
 }
 
-TEST(ImageSource, ReadsAnEurocCameraFolderAndAVideo) {
+TEST(ImageSource, ReadsAnEurocCameraFolder) {
   const auto euroc = test::sharedDataDir() / "euroc_v101_micro" / "mav0" / "cam0";
-  if (fs::exists(euroc)) {
-    data::ImageSource s(euroc.string(), 10);
-    EXPECT_EQ(s.kind(), "euroc");
-    EXPECT_EQ(s.sizeHint(), 10u);
-    data::ImageFrame f;
-    ASSERT_TRUE(s.next(f));
-    EXPECT_EQ(f.gray.cols, 752);
-    EXPECT_GT(f.t_ns, 1400000000000000000LL);
-  }
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
-  if (fs::exists(video)) {
-    data::ImageSource s(video, 100);
-    EXPECT_EQ(s.kind(), "video");
-    EXPECT_EQ(s.sizeHint(), 7u);  // 795 frames
-    data::ImageFrame f;
-    ASSERT_TRUE(s.next(f));
-    EXPECT_EQ(f.gray.type(), CV_8UC1);
-    EXPECT_EQ(f.t_ns, 0);
-    ASSERT_TRUE(s.next(f));
-    EXPECT_EQ(f.name, video + "#100");
-    EXPECT_EQ(f.t_ns, 10'000'000'000LL);  // 10 frames per second: each frame's own stream time
-  }
+  ADUGS_REQUIRE_SHARED(euroc);
+  data::ImageSource s(euroc.string(), 10);
+  EXPECT_EQ(s.kind(), "euroc");
+  EXPECT_EQ(s.sizeHint(), 10u);
+  data::ImageFrame f;
+  ASSERT_TRUE(s.next(f));
+  EXPECT_EQ(f.gray.cols, 752);
+  EXPECT_GT(f.t_ns, 1400000000000000000LL);
+}
+
+TEST(ImageSource, AMissingFolderIsAnInputError) {
   EXPECT_THROW(data::ImageSource("/nonexistent/folder"), data::InputError);
+}
+
+TEST(ImageSource, ReadsAVideo) {
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
+  const std::string& video = test::kPedestrianVideo;
+  data::ImageSource s(video, 100);
+  EXPECT_EQ(s.kind(), "video");
+  EXPECT_EQ(s.sizeHint(), 7u);  // 795 frames
+  data::ImageFrame f;
+  ASSERT_TRUE(s.next(f));
+  EXPECT_EQ(f.gray.type(), CV_8UC1);
+  EXPECT_EQ(f.t_ns, 0);
+  ASSERT_TRUE(s.next(f));
+  EXPECT_EQ(f.name, video + "#100");
+  EXPECT_EQ(f.t_ns, 10'000'000'000LL);  // 10 frames per second: each frame's own stream time
 }
 
 }  // namespace

@@ -12,7 +12,7 @@
 namespace adugs::tracking {
 namespace {
 
-const char* kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+const std::string& kVideo = test::kPedestrianVideo;
 
 // One anchor of the stride-16 grid (416 input: 52x52 stride-8 cells come first) at cell (3, 2):
 // x, y offsets 0.5, 0.25 -> centre (3.5 * 16, 2.25 * 16) = (56, 36) in the input; log w, h =
@@ -44,8 +44,7 @@ TEST(YoloxDecode, HandWorkedAnchor) {
 TEST(YoloxDetector, FindsThePedestriansOfTheOpenCvVideo) {
   const auto model = test::sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
   ADUGS_REQUIRE_SHARED(model);
-  ASSERT_TRUE(std::filesystem::exists(kVideo))
-      << kVideo << " missing: run scripts/setup.sh (package opencv-doc)";
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
   YoloxDetector detector(model.string());
   cv::VideoCapture video(kVideo);
   ASSERT_TRUE(video.isOpened());
@@ -84,8 +83,7 @@ TEST(YoloxDetector, FindsThePedestriansOfTheOpenCvVideo) {
 TEST(YoloxDetector, NoBoxAroundTwoPeopleItFoundAlone) {
   const auto model = test::sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
   ADUGS_REQUIRE_SHARED(model);
-  ASSERT_TRUE(std::filesystem::exists(kVideo))
-      << kVideo << " missing: run scripts/setup.sh (package opencv-doc)";
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
   cv::VideoCapture video(kVideo);
   ASSERT_TRUE(video.set(cv::CAP_PROP_POS_FRAMES, 767));
   cv::Mat frame;

@@ -15,7 +15,7 @@
 namespace adugs::tracking {
 namespace {
 
-const char* kVideo = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+const std::string& kVideo = test::kPedestrianVideo;
 
 // Row (cx, cy, w, h) = (0.5, 0.25, 0.1, 0.4) of a 800x600 image -> centre (400, 150), 80 x 240;
 // class scores (already times objectness in OpenCV's region layer): person 0.7.
@@ -39,7 +39,7 @@ TEST(DarknetDecode, HandWorkedRow) {
 TEST(DarknetDetector, YoloFastestFindsThePedestriansOfTheOpenCvVideo) {
   const auto dir = test::sharedModelsDir() / "yolo-fastest-1.1_coco";
   ADUGS_REQUIRE_SHARED(dir);
-  ASSERT_TRUE(std::filesystem::exists(kVideo)) << kVideo << " missing: run scripts/setup.sh (package opencv-doc)";
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
   // Through the factory: the .cfg is found beside the .weights.
   const std::unique_ptr<Detector> detector = makeDetector((dir / "yolo-fastest-1.1-xl.weights").string());
   cv::VideoCapture video(kVideo);

@@ -23,9 +23,9 @@ namespace {
 constexpr int kPerson = 0, kCar = 2, kTruck = 7;  // COCO ids
 
 TEST(ObjectMotionOnVideo, ThePeopleWalkingAreMaskedTheParkedVanIsNot) {
-  const std::string video = "/usr/share/doc/opencv-doc/examples/data/vtest.avi";
+  const std::string& video = test::kPedestrianVideo;
   const auto model = test::sharedModelsDir() / "yolox_nano" / "yolox_nano.onnx";
-  ADUGS_REQUIRE_SHARED(video);
+  ADUGS_REQUIRE_PEDESTRIAN_VIDEO();
   ADUGS_REQUIRE_SHARED(model);
   cv::VideoCapture capture(video);
   ASSERT_TRUE(capture.isOpened());
