@@ -6,6 +6,24 @@
 #include <stdexcept>
 
 namespace adugs::tracking {
+namespace {
+
+// GrabCut starts its colour models with k-means, whose first centres OpenCV draws from the
+// thread's generator (cv::theRNG). Started from this state on every call, a box's mask depends
+// on the image and the box alone, not on which boxes and frames the thread segmented before; the
+// caller's generator is given back as it was.
+class FixedOpenCvRng {
+ public:
+  FixedOpenCvRng() : saved_(cv::theRNG().state) { cv::theRNG().state = 0x9e3779b97f4a7c15ULL; }
+  ~FixedOpenCvRng() { cv::theRNG().state = saved_; }
+  FixedOpenCvRng(const FixedOpenCvRng&) = delete;
+  FixedOpenCvRng& operator=(const FixedOpenCvRng&) = delete;
+
+ private:
+  uint64_t saved_;
+};
+
+}  // namespace
 
 GrabCutSegmenter::GrabCutSegmenter(const GrabCutOptions& options) : options_(options) {
   if (options_.iterations < 1 || options_.max_side < 16 || options_.prompted_iterations < 1 ||
@@ -80,6 +98,7 @@ cv::Mat GrabCutSegmenter::segmentOne(const cv::Mat& image, const Box& box, const
     cv::circle(labels, at, radius, cv::Scalar(p.object ? cv::GC_FGD : cv::GC_BGD), cv::FILLED);
   }
   cv::Mat bgd_model, fgd_model;
+  const FixedOpenCvRng fixed_start;
   cv::grabCut(small, labels, box_small, bgd_model, fgd_model, prompted ? options_.prompted_iterations : options_.iterations,
               prompted ? cv::GC_INIT_WITH_MASK : cv::GC_INIT_WITH_RECT);
   cv::Mat fg_small = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
