@@ -87,6 +87,9 @@ std::string report(const EvalArgs& a, const data::TrajectoryReadInfo& est_info,
         vio::alignModeName(r.align_mode),
         r.align_pairs_used == r.pairs.size() ? "all " : "the first ", r.align_pairs_used,
         rotationAngleDeg(r.T_G_E.R_G_E), t.x(), t.y(), t.z(), r.T_G_E.scale);
+    if (r.align_mode == vio::AlignMode::kSim3)
+      out += format("  scale error   the estimate is %.3f %% %s\n", std::abs(r.T_G_E.lengthErrorPercent()),
+                    r.T_G_E.lengthErrorPercent() < 0 ? "short" : "long");
   }
   out += format("  gt length     %.3f m over %.2f s\n\n", r.gt_length_m,
                 data::nsToSec(r.gt_matched.back().t_ns - r.gt_matched.front().t_ns));

@@ -161,6 +161,22 @@ TEST_F(CmdRunVioSim, GroundTruthMasksRunEndToEndWithSummary) {
   const double settled = summaryNumber(out / "summary.yaml", "ate_se3_rmse_settled_m");
   EXPECT_GT(settled, 0.0) << summary;
   EXPECT_NEAR(settled, std::stod(printed[1]), 2e-6) << eval_log;
+  // The shape and the scale apart are `adugs eval --align sim3` of the same two files; with the
+  // scale free the error cannot be larger.
+  ASSERT_EQ(runAdugs("eval --est " + (out / "trajectory.tum").string() + " --gt " +
+                         (dir_->path() / "mav0/state_groundtruth_estimate0/data.csv").string() + " --align sim3",
+                     &eval_log),
+            0)
+      << eval_log;
+  std::smatch sim3_ate, length_error_text;
+  ASSERT_TRUE(std::regex_search(eval_log, sim3_ate, std::regex(R"(trans \[m\]\s+([0-9.]+))"))) << eval_log;
+  ASSERT_TRUE(std::regex_search(eval_log, length_error_text, std::regex(R"(the estimate is ([0-9.]+) % (short|long))"))) << eval_log;
+  const double shape = summaryNumber(out / "summary.yaml", "ate_sim3_rmse_m");
+  EXPECT_NEAR(shape, std::stod(sim3_ate[1]), 2e-6) << eval_log;
+  EXPECT_LE(shape, summaryNumber(out / "summary.yaml", "ate_se3_rmse_m")) << summary;
+  const double length_error = std::stod(length_error_text[1]) * (length_error_text[2] == "short" ? -1 : 1);
+  EXPECT_NEAR(summaryNumber(out / "summary.yaml", "scale_error_percent"), length_error, 1e-3) << eval_log;
+  EXPECT_NE(log.find("ATE (sim3)"), std::string::npos) << log;
   // The initialisation's scale uncertainty is reported, and sim.yaml's check accepted it.
   const double scale_std = summaryNumber(out / "summary.yaml", "init_scale_relative_std");
   const double cut = app::loadRunConfig(kSourceDir + std::string("/data/config/sim.yaml")).estimator.init.max_scale_relative_std;

@@ -144,6 +144,17 @@ TEST(Align, Sim3RecoversScale) {
   EXPECT_GT(ateRmse(est, gt, AlignMode::kSe3), 0.5);  // se3 cannot undo a scale error
 }
 
+// Hand-worked: an estimate 2 % longer than the ground truth is shrunk by 1 / 1.02, and its
+// length error is +2 %; one 0.37 of the length is 63 % short.
+TEST(Align, LengthErrorIsTheEstimatesExtraLengthInPercent) {
+  const Trajectory gt = wigglyLoop();
+  const Trajectory longer = transformed(gt, someRotation(), Eigen::Vector3d(1, 2, 3), 1.02);
+  EXPECT_NEAR(alignTrajectory(longer, gt, AlignMode::kSim3).lengthErrorPercent(), 2.0, 1e-9);
+  const Trajectory shorter = transformed(gt, someRotation(), Eigen::Vector3d(1, 2, 3), 0.37);
+  EXPECT_NEAR(alignTrajectory(shorter, gt, AlignMode::kSim3).lengthErrorPercent(), -63.0, 1e-9);
+  EXPECT_DOUBLE_EQ(alignTrajectory(longer, gt, AlignMode::kSe3).lengthErrorPercent(), 0.0);
+}
+
 TEST(Align, NeverReturnsAReflection) {
   // A planar (z = 0) path: the covariance has rank 2 and a mirror fits as well as the rotation.
   Trajectory gt = wigglyLoop();

@@ -31,6 +31,9 @@ struct SimilarityTransform {
   double scale = 1.0;
 
   Eigen::Vector3d apply(const Eigen::Vector3d& p_E) const { return scale * (R_G_E * p_E) + t_G_E; }
+  // How much longer the estimate is than the ground truth, in %: an estimate 1 % long is shrunk by
+  // scale = 1 / 1.01 (+1), one 1 % short grown by 1 / 0.99 (-1).
+  double lengthErrorPercent() const { return 100.0 * (1.0 / scale - 1.0); }
   data::StampedPose apply(const data::StampedPose& pose_E) const;
   data::Trajectory apply(const data::Trajectory& trajectory_E) const;
 };
