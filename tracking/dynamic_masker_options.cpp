@@ -67,6 +67,8 @@ void readDynamicMaskerOptions(data::YamlOptionsReader& d, DynamicMaskerOptions* 
     m.optional("ransac_iterations", c.ransac_iterations, 1, 100000);
     m.optional("group_radius_px", c.group_radius_px, 1.0, 10000.0);
     m.optional("min_points", c.min_points, 1, 1000);
+    m.optional("min_corner_points", c.min_corner_points, 0, 1000);
+    m.optional("corner_ratio", c.corner_ratio, 0.0, 1.0);
     m.optional("box_margin", c.box_margin, 0.0, 10.0);
     if (c.strong_threshold_px < c.threshold_px) m.fail("strong_threshold_px", "must be at least threshold_px");
     m.finish();

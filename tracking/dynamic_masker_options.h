@@ -9,7 +9,8 @@
 //   high_score / low_iou_min / drop_unconfirmed / last_box_association / direction_weight /
 //   direction_frames / recovery; and the map motion_cue: of the class-free motion cue's options
 //   (tracking/detect/motion_cue.h: cell_px, corner_quality, threshold_px, translation_min_gain,
-//   min_speed, ransac_iterations, group_radius_px, min_points, box_margin), used with --mask
+//   min_speed, ransac_iterations, group_radius_px, min_points, min_corner_points, corner_ratio,
+//   box_margin), used with --mask
 //   motion or --motion-cue; static_after_frames / static_min_points (tracking/object_motion.h:
 //   with the motion cue, a tracked object judged static this many frames is not masked; 0: never);
 //   and the map grabcut: of the GrabCut segmenter's options (tracking/segment/grabcut_segmenter.h:

@@ -285,7 +285,8 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   data::YamlOptionsReader cue = data::YamlOptionsReader::fromString(
       "motion_cue:\n  cell_px: 32\n  klt_pyramid_levels: 4\n  still_pyramid_levels: 1\n  corner_quality: 0.01\n  threshold_px: 2.5\n  strong_threshold_px: 6\n"
       "  translation_min_gain: 0.2\n"
-      "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 6\n  box_margin: 0.2\n",
+      "  min_speed: 0.05\n  ransac_iterations: 50\n  group_radius_px: 30\n  min_points: 6\n  min_corner_points: 3\n"
+      "  corner_ratio: 0.2\n  box_margin: 0.2\n",
       "dynamic.yaml");
   readDynamicMaskerOptions(cue, &o);
   cue.finish();
@@ -300,6 +301,8 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   EXPECT_EQ(o.motion_cue.ransac_iterations, 50);
   EXPECT_DOUBLE_EQ(o.motion_cue.group_radius_px, 30);
   EXPECT_EQ(o.motion_cue.min_points, 6);
+  EXPECT_EQ(o.motion_cue.min_corner_points, 3);
+  EXPECT_DOUBLE_EQ(o.motion_cue.corner_ratio, 0.2);
   EXPECT_DOUBLE_EQ(o.motion_cue.box_margin, 0.2);
   EXPECT_EQ(o.grabcut.max_side, GrabCutOptions().max_side);  // no grabcut: map: the code's
   data::YamlOptionsReader grabcut = data::YamlOptionsReader::fromString(
@@ -324,7 +327,9 @@ TEST(DynamicMaskerOptions, ReaderFillsEveryKeyAndNamesABadOne) {
   expectRefused("motion_cue:\n  threshold_px: 0\n", "threshold_px");
   expectRefused("motion_cue:\n  threshhold_px: 2\n", "threshhold_px");
   expectRefused("motion_cue:\n  threshold_px: 2\n  strong_threshold_px: 1\n", "strong_threshold_px");
-  expectRefused("motion_cue:\n  corner_quality: 0\n", "corner_quality");  // the cue needs a floor above 0
+  expectRefused("motion_cue:\n  corner_quality: 0\n", "corner_quality");
+  expectRefused("motion_cue:\n  corner_ratio: 1.5\n", "corner_ratio");
+  expectRefused("motion_cue:\n  min_corner_points: -1\n", "min_corner_points");  // the cue needs a floor above 0
   expectRefused("direction_frames: 0\n", "direction_frames");
 
   // The object states' keys: the class heights replace the COCO defaults.

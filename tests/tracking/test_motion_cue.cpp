@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "tests/tracking/rendered_panel_flight.h"
@@ -253,6 +254,30 @@ TEST(MotionCue, FastMoverIsFollowedWithThreePyramidLevels) {
   EXPECT_GE(boxed[1], frames - 1);
 }
 
+// Hand-worked structure tensors [xx xy; xy yy] of gradient windows, in the cue's CV_16SC2 form.
+TEST(MotionCue, CornerRatioIsTheStructureTensorsSmallerOverLargerEigenvalue) {
+  const auto window = [](const std::vector<std::pair<cv::Point, cv::Vec2s>>& gradients) {
+    cv::Mat g(21, 21, CV_16SC2, cv::Scalar(0, 0));
+    for (const auto& [at, value] : gradients) g.at<cv::Vec2s>(at) = value;
+    return g;
+  };
+  const cv::Point2f centre(10, 10);
+  // A vertical edge: every gradient along x, [xx 0; 0 0], eigenvalues xx and 0.
+  EXPECT_DOUBLE_EQ(cornerRatio(window({{{10, 8}, {50, 0}}, {{10, 9}, {50, 0}}, {{10, 11}, {50, 0}}}), centre, 3), 0.0);
+  // A diagonal edge: gradients (g, g), [a a; a a], eigenvalues 2a and 0.
+  EXPECT_NEAR(cornerRatio(window({{{9, 9}, {30, 30}}, {{10, 10}, {30, 30}}, {{11, 11}, {30, 30}}}), centre, 3), 0.0, 1e-12);
+  // A corner: one gradient along x, one along y, equal: [a 0; 0 a], ratio 1.
+  EXPECT_DOUBLE_EQ(cornerRatio(window({{{10, 9}, {40, 0}}, {{9, 10}, {0, 40}}}), centre, 3), 1.0);
+  // (2, 0) and (0, 1): [4 0; 0 1], ratio 1/4. (2, 0) and (1, 1): [5 1; 1 1], eigenvalues 3 -+ sqrt(5).
+  EXPECT_DOUBLE_EQ(cornerRatio(window({{{10, 9}, {2, 0}}, {{9, 10}, {0, 1}}}), centre, 3), 0.25);
+  EXPECT_NEAR(cornerRatio(window({{{10, 9}, {2, 0}}, {{9, 10}, {1, 1}}}), centre, 3), (3 - std::sqrt(5.0)) / (3 + std::sqrt(5.0)), 1e-12);
+  // Flat: no gradient at all; and a gradient outside the window does not count.
+  EXPECT_DOUBLE_EQ(cornerRatio(window({}), centre, 3), 0.0);
+  EXPECT_DOUBLE_EQ(cornerRatio(window({{{10, 9}, {40, 0}}, {{9, 14}, {0, 40}}}), centre, 3), 0.0);
+  // A window over the image's edge is clipped to it.
+  EXPECT_DOUBLE_EQ(cornerRatio(window({{{0, 1}, {40, 0}}, {{1, 0}, {0, 40}}}), cv::Point2f(0, 0), 3), 1.0);
+}
+
 TEST(MotionCue, BadInputsAreRejected) {
   MotionCue cue(kCamera);
   EXPECT_THROW(cue.detect(cv::Mat(480, 752, CV_32FC1, cv::Scalar(0)), Eigen::Matrix3d::Identity()), std::invalid_argument);
@@ -266,6 +291,13 @@ TEST(MotionCue, BadInputsAreRejected) {
   o = MotionCueOptions{};
   o.still_pyramid_levels = -1;
   EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
+  o = MotionCueOptions{};
+  o.min_corner_points = -1;
+  EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
+  o = MotionCueOptions{};
+  o.corner_ratio = 1.5;
+  EXPECT_THROW(MotionCue(kCamera, o), std::invalid_argument);
+  EXPECT_THROW(cornerRatio(cv::Mat(480, 752, CV_8UC1, cv::Scalar(0)), cv::Point2f(10, 10), 5), std::invalid_argument);
   // A blank frame has no corners: no points, no boxes, no failure.
   const cv::Mat blank(480, 752, CV_8UC1, cv::Scalar(90));
   EXPECT_TRUE(cue.detect(blank, Eigen::Matrix3d::Identity()).empty());

@@ -49,10 +49,10 @@ MotionCue::MotionCue(const data::CameraModel& camera, const MotionCueOptions& op
       focal_px_(camera.centreFocalPx()),
       grid_cols_((camera.width() + options.cell_px - 1) / std::max(1, options.cell_px)),
       grid_rows_((camera.height() + options.cell_px - 1) / std::max(1, options.cell_px)) {
-  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.klt_pyramid_levels < 0 || options_.still_pyramid_levels < 0 || options_.min_points < 1 || options_.threshold_px <= 0 ||
+  if (options_.cell_px < 4 || options_.klt_window_px < 5 || options_.klt_pyramid_levels < 0 || options_.still_pyramid_levels < 0 || options_.min_points < 1 || options_.min_corner_points < 0 || options_.corner_ratio < 0 || options_.corner_ratio > 1 || options_.threshold_px <= 0 ||
       options_.strong_threshold_px < options_.threshold_px || options_.group_radius_px <= 0 ||
       options_.ransac_iterations < 1 || options_.corner_quality <= 0)
-    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, klt_pyramid_levels >= 0, still_pyramid_levels >= 0, min_points >= 1 and positive thresholds, radius, quality and iterations");
+    throw std::invalid_argument("MotionCue: cell_px >= 4, klt_window_px >= 5, klt_pyramid_levels >= 0, still_pyramid_levels >= 0, min_points >= 1, min_corner_points >= 0, corner_ratio in [0, 1] and positive thresholds, radius, quality and iterations");
 }
 
 std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matrix3d& R_Ccur_Cprev,
@@ -136,9 +136,14 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
     points_.push_back(p);
     if (moves) moving.push_back(t.pixel);
   }
+  // The pyramid's second entry holds the frame's gradients (images and derivatives alternate).
+  std::vector<bool> corner(moving.size(), true);
+  if (options_.min_corner_points > 0)
+    for (size_t i = 0; i < moving.size(); ++i)
+      corner[i] = cornerRatio(pyramid[1], moving[i], options_.klt_window_px / 2) >= options_.corner_ratio;
   previous_pyramid_ = std::move(pyramid);
   topUp(grey);
-  return group(moving);
+  return group(moving, corner);
 }
 
 bool MotionCue::isStill(const Track& t) { return t.age >= 2 && (t.history & 3u) == 0; }
@@ -248,7 +253,24 @@ Eigen::Vector3d MotionCue::fitTranslation(const std::vector<Eigen::Vector3d>& pr
   return vote < 0 ? Eigen::Vector3d(-best) : best;
 }
 
-std::vector<Detection> MotionCue::group(const std::vector<cv::Point2f>& moving) const {
+double cornerRatio(const cv::Mat& gradients, const cv::Point2f& pixel, int radius) {
+  if (gradients.type() != CV_16SC2) throw std::invalid_argument("cornerRatio: the gradients must be CV_16SC2");
+  const int cx = static_cast<int>(std::lround(pixel.x)), cy = static_cast<int>(std::lround(pixel.y));
+  double xx = 0, xy = 0, yy = 0;
+  for (int y = std::max(0, cy - radius); y <= std::min(gradients.rows - 1, cy + radius); ++y)
+    for (int x = std::max(0, cx - radius); x <= std::min(gradients.cols - 1, cx + radius); ++x) {
+      const cv::Vec2s& g = gradients.at<cv::Vec2s>(y, x);
+      xx += static_cast<double>(g[0]) * g[0];
+      xy += static_cast<double>(g[0]) * g[1];
+      yy += static_cast<double>(g[1]) * g[1];
+    }
+  // The eigenvalues of [xx xy; xy yy]: half the trace -+ the root of its square less the determinant.
+  const double half_trace = (xx + yy) / 2;
+  const double root = std::sqrt(std::max(0.0, half_trace * half_trace - (xx * yy - xy * xy)));
+  return half_trace > 0 ? (half_trace - root) / (half_trace + root) : 0.0;
+}
+
+std::vector<Detection> MotionCue::group(const std::vector<cv::Point2f>& moving, const std::vector<bool>& corner) const {
   const int n = static_cast<int>(moving.size());
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
@@ -263,6 +285,7 @@ std::vector<Detection> MotionCue::group(const std::vector<cv::Point2f>& moving) 
   std::vector<Detection> boxes;
   for (const std::vector<int>& m : members) {
     if (static_cast<int>(m.size()) < options_.min_points) continue;
+    if (std::count_if(m.begin(), m.end(), [&](int i) { return corner[static_cast<size_t>(i)]; }) < options_.min_corner_points) continue;
     double x0 = moving[m[0]].x, x1 = x0, y0 = moving[m[0]].y, y1 = y0;
     for (int i : m) {
       x0 = std::min<double>(x0, moving[i].x), x1 = std::max<double>(x1, moving[i].x);

@@ -25,8 +25,9 @@
 //   4. a point moves when its residual is above threshold_px in at least 2 of its last 3 frames,
 //      or above strong_threshold_px in this one (points on a walking person or an object's edge
 //      rarely live three frames: a young point with clear motion counts at once);
-//      moving points closer than group_radius_px form a group; a group of min_points or more is a
-//      box (their bounding box, widened by box_margin on each side), score 1, class kMovingClass.
+//      moving points closer than group_radius_px form a group; a group of min_points or more, of
+//      which min_corner_points are corners (cornerRatio at least corner_ratio), is a box (their
+//      bounding box, widened by box_margin on each side), score 1, class kMovingClass.
 // What it cannot see: motion along the point's epipolar line that a static point could have at
 // some depth (an object coming towards a forward-moving camera, or going its way more slowly than
 // it: both look like static points at another depth; telling them apart needs depth, e.g. where
@@ -76,8 +77,23 @@ struct MotionCueOptions {
   // 0.58 -> 0.62 room, recall 0.67 -> 0.66 (doc/results.md, "Fewer false boxes"); 5 lost the
   // room's small movers (ATE 0.85x -> 1.37x the exact masks').
   int min_points = 4;
+  // Of a group's moving points, how many must be corners: a point on a straight edge slides along
+  // it, and its track is wrong by that slide. Where nothing moves the false groups are such points
+  // (a static scene's false mask, 16 sequences at level `none`: 0.01-1.0 % of the image on 15
+  // of them -> 0 on all but 3 rooms, every street's run the unmasked one; moving-pixel recall
+  // 0.693 -> 0.686 over 9 sequences; doc/results.md, "Two corners make a box"). A mover's group
+  // has corners among its points, its silhouette's edge points are about half of them.
+  int min_corner_points = 2;
+  double corner_ratio = 0.1;      // smallest / largest eigenvalue of the gradients' structure tensor
   double box_margin = 0.1;        // of the box's width / height, on each side
 };
+
+// How much the window (2 radius + 1 pixels square) around pixel is a corner: the smaller
+// eigenvalue over the larger of its gradients' structure tensor. 0 on a straight edge (the
+// gradients all point one way) and where the window is flat, 1 where they spread evenly.
+// gradients: CV_16SC2 (dI/dx, dI/dy), as cv::buildOpticalFlowPyramid's derivative levels; the
+// window is clipped to the image.
+double cornerRatio(const cv::Mat& gradients, const cv::Point2f& pixel, int radius);
 
 // One tracked point and whether it moved, for the overlay and the tests.
 struct MotionCuePoint {
@@ -125,7 +141,8 @@ class MotionCue {
   // The translation direction the points agree with best (RANSAC, then least squares).
   Eigen::Vector3d fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,
                                  const std::vector<Eigen::Vector3d>& rays);
-  std::vector<Detection> group(const std::vector<cv::Point2f>& moving) const;
+  // corner[i]: whether moving[i] is a corner (min_corner_points).
+  std::vector<Detection> group(const std::vector<cv::Point2f>& moving, const std::vector<bool>& corner) const;
   int cellOf(const cv::Point2f& pixel) const;
   static bool isStill(const Track& t);
   // KLT of the points `which` from `from` in the previous frame (started at *to) into `pyramid`
