@@ -35,6 +35,10 @@ double epipolarAngle(const Eigen::Vector3d& t, const Eigen::Vector3d& a, const E
 // of the still points' tracks are below 2, and 0.5 % above 8 pass the back check.
 constexpr double kStillMaxErrorGrey = 8;
 
+// The smallest turn about the optical axis MotionCue::fitRoll reports, as the motion of the point
+// farthest from the centre (pixels on the optical axis): a fifth of the default threshold_px.
+constexpr double kMinRollPx = 0.3;
+
 // Disjoint sets for grouping the moving points.
 int findRoot(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -116,6 +120,17 @@ std::vector<Detection> MotionCue::detect(const cv::Mat& image, const Eigen::Matr
   }
   tracks_ = std::move(kept);
   keepOnePerCell(&previous_rays, &rays);
+  // 2b. Without the estimator's state its gyro bias is not known either: a turn about the optical
+  //     axis that the points show is taken out when it explains them better than a translation.
+  roll_rad_ = 0;
+  if (!v_C) {
+    const double w = fitRoll(previous_rays, rays);
+    if (w != 0 && turnExplainsMore(previous_rays, rays, w)) {
+      roll_rad_ = w;
+      const Eigen::Matrix3d roll = Eigen::AngleAxisd(w, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      for (Eigen::Vector3d& a : previous_rays) a = roll * a;
+    }
+  }
 
   // 3-4. Residuals against the static scene's model; the votes of the last three frames.
   const std::vector<double> r = residuals(previous_rays, rays, v_C);
@@ -204,6 +219,68 @@ std::vector<double> MotionCue::residuals(const std::vector<Eigen::Vector3d>& pre
   const double gain = std::max(options_.translation_min_gain * static_cast<double>(n), 5.0);
   translating_ = v_C.has_value() || static_cast<double>(inliers(r) - inliers(rotation_only)) > gain;
   return translating_ ? r : rotation_only;
+}
+
+double MotionCue::fitRoll(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays) const {
+  // A small turn by angle w about the optical axis z moves a ray a by w (z x a): each point's own
+  // w is its motion along z x a over that vector's length. Their median (weighted by the length
+  // squared, as far points say more) starts the estimate; least squares over the points it
+  // explains within threshold_px refine it.
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  std::vector<std::pair<double, double>> votes;  // (w, weight)
+  double total = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Vector3d t = z.cross(previous_rays[i]);
+    const double w2 = t.squaredNorm();
+    if (w2 < 1e-4) continue;  // near the image centre a turn moves nothing
+    votes.push_back({(rays[i] - previous_rays[i]).dot(t) / w2, w2});
+    total += w2;
+  }
+  if (votes.size() < 8) return 0;
+  const double widest = std::sqrt(std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) {
+                                    return a.second < b.second;
+                                  })->second);  // |z x a| of the point farthest from the centre
+  std::sort(votes.begin(), votes.end());
+  double w = 0, below = 0;
+  for (const auto& [v, weight] : votes)
+    if ((below += weight) >= total / 2) {
+      w = v;
+      break;
+    }
+  const double threshold2 = std::pow(options_.threshold_px / focal_px_, 2);
+  for (int round = 0; round < 2; ++round) {
+    double num = 0, den = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Eigen::Vector3d t = z.cross(previous_rays[i]);
+      const Eigen::Vector3d e = rays[i] - previous_rays[i];
+      if ((e - w * t).squaredNorm() > threshold2) continue;
+      num += e.dot(t), den += t.squaredNorm();
+    }
+    if (den > 0) w = num / den;
+  }
+  // A turn that moves no point by kMinRollPx is within KLT's noise: none (and the simulator's
+  // gyro, whose bias starts at zero, leaves the cue as it was).
+  return std::abs(w) * widest * focal_px_ >= kMinRollPx ? w : 0.0;
+}
+
+bool MotionCue::turnExplainsMore(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays,
+                                 double roll_rad) {
+  // The translation's fit draws from the RANSAC generator: restored, so that a frame whose turn
+  // is not taken goes on exactly as without this check.
+  const uint64_t rng_state = rng_state_;
+  const Eigen::Vector3d t = fitTranslation(previous_rays, rays);
+  rng_state_ = rng_state;
+  const Eigen::Matrix3d roll = Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  // Scored as the translation's fit is (truncated squared residuals): a translation in the image
+  // plane has epipolar lines along the turn's motion on two sides of the image and leaves the
+  // other two, where the turn moves less, under the threshold, so counting points ties.
+  const double cap = options_.threshold_px * options_.threshold_px;
+  double turned = 0, translated = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    turned += std::min(cap, std::pow(focal_px_ * angleBetween(roll * previous_rays[i], rays[i]), 2));
+    translated += std::min(cap, std::pow(focal_px_ * epipolarAngle(t, previous_rays[i], rays[i]), 2));
+  }
+  return turned < translated;
 }
 
 Eigen::Vector3d MotionCue::fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,
