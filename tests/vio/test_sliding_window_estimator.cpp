@@ -393,11 +393,15 @@ TEST(SlidingWindowEstimator, InitialisesOnItsOwnWindowThenGrowsToTheFullOne) {
 TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
   test::TempDir tmp("adugs_swe_blackout");
   const std::string root = makeSequence(tmp, "none", 8.0);
-  // Frames 60..69 (3.0-3.5 s) are black: no features -> failure -> reset, then re-initialise.
+  // Frames 60..69 (3.0-3.5 s) are black: no features -> failure -> reset at the first of them
+  // (few_features_max_s 0; the default rides through a blackout this short, next test), then
+  // re-initialise.
   const auto blackout = [](int frame, cv::Mat& image) {
     if (frame >= 60 && frame < 70) image.setTo(0);
   };
-  const PipelineRun run = runPipeline(root, blackout);
+  PipelineSetup at_once;
+  at_once.options.few_features_max_s = 0;
+  const PipelineRun run = runPipeline(root, blackout, {}, at_once);
   ASSERT_TRUE(run.all_finite);
   EXPECT_GE(run.stats.resets, 1);
   // The IMU carried the last state through the blackout and the new window was placed there: one
@@ -406,7 +410,7 @@ TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
   EXPECT_EQ(run.stats.resets_continued, run.stats.resets);
   const EvalResult continued = evaluate(run.trajectory, root);
   const double continued_m = continued.ate.translation.rmse;
-  PipelineSetup restart;
+  PipelineSetup restart = at_once;
   restart.options.reset_dead_reckoning_max_s = 0;
   const PipelineRun restarted = runPipeline(root, blackout, {}, restart);
   EXPECT_EQ(restarted.stats.resets_continued, 0);
@@ -426,6 +430,39 @@ TEST(SlidingWindowEstimator, BlackoutResetsCleanlyAndReinitialises) {
     after += t > 4.0;
   }
   EXPECT_GT(after, 40);
+}
+
+// The same 0.5 s blackout with the default few_features_max_s (1 s): no reset; the window rides
+// through on the IMU (a pose for every frame, the blackout's included) and picks up the new
+// features after it, as accurate as the run without a blackout. A 1.5 s blackout still resets,
+// 1 s into it.
+TEST(SlidingWindowEstimator, AShortBlackoutIsRiddenThroughOnTheImu) {
+  test::TempDir tmp("adugs_swe_ride");
+  const std::string root = makeSequence(tmp, "none", 8.0);
+  const auto blackout = [](int first, int end) {
+    return [first, end](int frame, cv::Mat& image) {
+      if (frame >= first && frame < end) image.setTo(0);
+    };
+  };
+  ASSERT_EQ(EstimatorOptions{}.few_features_max_s, 1.0);
+  const PipelineRun clear = runPipeline(root);
+  const PipelineRun run = runPipeline(root, blackout(60, 70));
+  ASSERT_TRUE(run.all_finite);
+  EXPECT_EQ(run.stats.resets, 0) << run.stats.last_failure;
+  int during = 0;
+  for (const auto& p : run.trajectory) {
+    const double t = data::nsToSec(p.t_ns - run.trajectory.front().t_ns);
+    during += t > 3.0 && t < 3.45;
+  }
+  EXPECT_GE(during, 8) << "a pose per blacked-out frame";
+  const EvalResult r = evaluate(run.trajectory, root);
+  const double clear_m = evaluate(clear.trajectory, root).ate.translation.rmse;
+  EXPECT_LT(r.ate.translation.rmse, 0.02 * r.gt_length_m);
+  EXPECT_LT(r.ate.translation.rmse, 1.5 * clear_m) << "without the blackout " << clear_m;
+
+  const PipelineRun longer = runPipeline(root, blackout(60, 90));
+  EXPECT_EQ(longer.stats.resets, 1);
+  EXPECT_NE(longer.stats.last_failure.find("for 1000 ms"), std::string::npos) << longer.stats.last_failure;
 }
 
 // A 0.4 s hole in the IMU stream (3.0-3.4 s): integrating across it would invent the motion, so

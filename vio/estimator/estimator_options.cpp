@@ -34,6 +34,7 @@ void readEstimatorOptions(data::YamlOptionsReader& r, EstimatorOptions* o) {
   r.optional("max_speed", o->max_speed, 0.1, 1000.0);
   r.optional("max_position_jump", o->max_position_jump, 0.01, 1000.0);
   r.optional("min_tracked_features", o->min_tracked_features, 0, 10000);
+  r.optional("few_features_max_s", o->few_features_max_s, 0.0, 60.0);
   r.optional("max_imu_gap_s", o->max_imu_gap_s, 0.001, 10.0);
   r.optional("estimate_extrinsic", o->estimate_extrinsic);
   r.optional("extrinsic_prior_sigma_m", o->extrinsic_prior_sigma_m, 1e-4, 10.0);

@@ -347,9 +347,15 @@ std::optional<EstimatorState> SlidingWindowEstimator::addFrame(const FrameFeatur
   rejectOutliers();
 
   std::string why;
-  if (!frames_.back()->stationary &&
-      static_cast<int>(features.size()) < options_.min_tracked_features)
-    why = "too few tracked features (" + std::to_string(features.size()) + ")";
+  if (!frames_.back()->stationary && static_cast<int>(features.size()) < options_.min_tracked_features) {
+    if (few_features_since_ns_ < 0) few_features_since_ns_ = features.t_ns;
+    const double few_s = data::nsToSec(features.t_ns - few_features_since_ns_);
+    if (few_s >= options_.few_features_max_s)
+      why = "too few tracked features (" + std::to_string(features.size()) + ", fewer than " +
+            std::to_string(options_.min_tracked_features) + " for " + std::to_string(static_cast<int>(std::lround(few_s * 1000))) + " ms)";
+  } else {
+    few_features_since_ns_ = -1;
+  }
   if (why.empty() && failureDetected(just_initialized ? frames_.back()->p() : predicted_p, &why)) {
   }
   if (!why.empty()) {
@@ -614,6 +620,7 @@ void SlidingWindowEstimator::reset(const std::string& why, bool imu_continuous) 
   }
   last_output_.reset();
   stats_.last_failure = why;
+  few_features_since_ns_ = -1;
   frames_.clear();
   landmarks_.clear();
   prior_.reset();

@@ -215,6 +215,7 @@ class SlidingWindowEstimator {
   // Camera stamp of the latest (re-)initialisation or stationary frame: td is held until the
   // estimator has been moving for time_offset_warmup_s after it.
   int64_t settled_since_ns_ = 0;
+  int64_t few_features_since_ns_ = -1;  // the first of the latest run of frames with too few features (-1: none)
   EstimatorStats stats_;
   std::optional<EstimatorState> last_output_;
   // Since a reset: the last output state carried by the IMU to each frame added since, by the
