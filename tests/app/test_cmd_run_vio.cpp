@@ -554,6 +554,7 @@ TEST_F(CmdRunVioSim, BadConfigNamesTheKey) {
   expectRefused("vi_bias.yaml", "estimator:\n  vi_init_accel_bias_sigma: -0.1\n", "vi_init_accel_bias_sigma");
   expectRefused("init_scale.yaml", "estimator:\n  init:\n    max_scale_relative_std: -0.1\n",
                 "max_scale_relative_std");
+  expectRefused("few_features.yaml", "estimator:\n  few_features_max_s: -1\n", "few_features_max_s");
 }
 
 }  // namespace
