@@ -66,8 +66,8 @@ struct EstimatorOptions {
   // ... once it has had fewer for this long: until then the window rides on the IMU and the few
   // features it has. A mover passing in front of the camera hides most of the scene for a
   // fraction of a second, and its mask with it (moving-box flight seed 2: 78 % of the image moving,
-  // 90 % masked); a reset there re-initialises among the movers (doc/results.md, "Riding through
-  // a mover that fills the view"). 0: reset at the first such frame.
+  // 90 % masked); a reset there re-initialises among the movers (doc/results.md, "... riding
+  // through a mover that fills the view"). 0: reset at the first such frame.
   double few_features_max_s = 1.0;
   // Online camera-IMU extrinsic (VINS-Mono's ESTIMATE_EXTRINSIC = 1): T_B_C is refined in the
   // window while moving, held by a weak prior at the calibrated value (see pose_prior_factor.h).
