@@ -265,22 +265,28 @@ double MotionCue::fitRoll(const std::vector<Eigen::Vector3d>& previous_rays, con
 
 bool MotionCue::turnExplainsMore(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays,
                                  double roll_rad) {
-  // The translation's fit draws from the RANSAC generator: restored, so that a frame whose turn
-  // is not taken goes on exactly as without this check.
-  const uint64_t rng_state = rng_state_;
-  const Eigen::Vector3d t = fitTranslation(previous_rays, rays);
-  rng_state_ = rng_state;
+  // The static scene's model fitted twice, with the turn taken out and without: a bias turn leaves
+  // the points a rigid scene once removed; the turn of a shear, removed, leaves them less so. Both
+  // translation fits draw from the RANSAC generator: restored, so that a frame whose turn is not
+  // taken goes on exactly as without this check.
   const Eigen::Matrix3d roll = Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  // Scored as the translation's fit is (truncated squared residuals): a translation in the image
-  // plane has epipolar lines along the turn's motion on two sides of the image and leaves the
-  // other two, where the turn moves less, under the threshold, so counting points ties.
+  std::vector<Eigen::Vector3d> turned(previous_rays.size());
+  for (size_t i = 0; i < previous_rays.size(); ++i) turned[i] = roll * previous_rays[i];
+  const uint64_t rng_state = rng_state_;
+  const double with_turn = translationCost(turned, rays);
+  rng_state_ = rng_state;
+  const double without = translationCost(previous_rays, rays);
+  rng_state_ = rng_state;
+  return with_turn < without;
+}
+
+double MotionCue::translationCost(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays) {
+  const Eigen::Vector3d t = fitTranslation(previous_rays, rays);
   const double cap = options_.threshold_px * options_.threshold_px;
-  double turned = 0, translated = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    turned += std::min(cap, std::pow(focal_px_ * angleBetween(roll * previous_rays[i], rays[i]), 2));
-    translated += std::min(cap, std::pow(focal_px_ * epipolarAngle(t, previous_rays[i], rays[i]), 2));
-  }
-  return turned < translated;
+  double cost = 0;
+  for (size_t i = 0; i < rays.size(); ++i)
+    cost += std::min(cap, std::pow(focal_px_ * epipolarAngle(t, previous_rays[i], rays[i]), 2));
+  return cost;
 }
 
 Eigen::Vector3d MotionCue::fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,

@@ -13,8 +13,8 @@
 //   2. the camera's rotation since the previous frame (the gyro's) is removed: each previous ray
 //      is rotated into this camera, so a static point far away stays put; without the
 //      estimator's velocity (before its first state, so with the gyro's bias unknown) also the
-//      turn about the optical axis the points show (fitRoll), when it explains them better than a
-//      translation does (turnExplainsMore);
+//      turn about the optical axis the points show (fitRoll), when the static scene's model fits
+//      them better with it taken out (turnExplainsMore);
 //   3. the static scene's model, one of two: rotation only (a static point stays where the
 //      rotation puts it: its residual is its compensated motion, as an angle in pixels on the
 //      optical axis), or a translating camera (static points slide along their epipolar lines:
@@ -153,13 +153,18 @@ class MotionCue {
   // weighted median of each point's, refined by least squares on those it explains; 0 when it
   // moves no point by 0.3 px (KLT's noise).
   double fitRoll(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays) const;
-  // Whether the rotation-only model with that turn explains the points better (truncated squared
-  // residuals, capped at threshold_px) than a fitted translation without it. A camera moving sideways past a floor sees more motion
-  // below than above, a shear whose turn fitRoll finds too (0.002-0.004 rad per frame on the
-  // simulator's rooms, with no bias): the translation explains it, so it is not taken. The limit:
-  // a bias turn while translating, before the estimator's state, stays in the residuals as before.
+  // Whether the static scene's model (a fitted translation) fits the points better with that turn
+  // taken out than without it (truncated squared residuals, capped at threshold_px). A camera
+  // moving sideways past a floor sees more motion below than above, a shear whose turn fitRoll
+  // finds too (0.002-0.004 rad per frame on the simulator's rooms, with no gyro bias): the
+  // translation explains the shear, and explains it worse with that turn removed. A bias turn is
+  // the other way round. (Comparing with the rotation-only model instead refused the real bias of
+  // the moving-box flights: their gyro's bias about x and y, half a pixel per frame, is left for
+  // the translation to absorb.)
   bool turnExplainsMore(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays,
                         double roll_rad);
+  // The translation's fit and its truncated squared residuals (threshold_px squared at most per point).
+  double translationCost(const std::vector<Eigen::Vector3d>& previous_rays, const std::vector<Eigen::Vector3d>& rays);
   // The translation direction the points agree with best (RANSAC, then least squares).
   Eigen::Vector3d fitTranslation(const std::vector<Eigen::Vector3d>& previous_rays,
                                  const std::vector<Eigen::Vector3d>& rays);
